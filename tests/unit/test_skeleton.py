@@ -43,8 +43,8 @@ def test_forward_kinematics_keeps_bone_lengths_for_any_pose(skeleton: Skeleton) 
     rng = np.random.default_rng(0)
     q = rng.normal(0, 1.0, (64, skeleton.pose_dim))
     rest = _segment_lengths(skeleton, skeleton.rest_pose())
-    np.testing.assert_allclose(_segment_lengths(skeleton, q), np.broadcast_to(rest, (64, rest.size)),
-                               atol=1e-9)
+    expected = np.broadcast_to(rest, (64, rest.size))
+    np.testing.assert_allclose(_segment_lengths(skeleton, q), expected, atol=1e-9)
 
 
 def test_elbow_flexion_of_ninety_degrees_points_the_forearm_forward(skeleton: Skeleton) -> None:

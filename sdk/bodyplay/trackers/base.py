@@ -78,11 +78,12 @@ class TrackResult:
 
 def lost_result(frame: int, t: float, ms: float = 0.0) -> TrackResult:
     """A result reporting every joint lost (no person in view)."""
+    lost: JointState = "lost"
     return TrackResult(
         frame=frame,
         t=t,
         joints=np.full((NUM_JOINTS, 3), np.nan),
-        state=("lost",) * NUM_JOINTS,
+        state=(lost,) * NUM_JOINTS,
         confidence=np.zeros(NUM_JOINTS),
         ms=ms,
     )
