@@ -1,0 +1,54 @@
+"""Skinning speed: forward kinematics + linear blend skinning per pose, for the generic
+tracker mesh and the actor, in batches as used when building pose databases.
+
+Run: ``.venv/bin/python benchmarks/bench_skinning.py`` (prints medians, machine, date).
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import time
+
+import numpy as np
+
+from bodyplay.body import Skeleton, body_mesh, load_actor
+
+
+def _poses(skeleton: Skeleton, n: int) -> np.ndarray:
+    rng = np.random.default_rng(0)
+    lo, hi = skeleton.limits
+    q = np.tile(skeleton.rest_pose(), (n, 1))
+    q[:, 3:] = rng.uniform(np.maximum(lo[3:], -1.0), np.minimum(hi[3:], 1.0), (n, q.shape[1] - 3))
+    return q
+
+
+def main() -> None:
+    """Print the median time per pose over several repeats."""
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, "
+          f"{platform.python_implementation()} {platform.python_version()}; "
+          f"date: {datetime.date.today().isoformat()}")
+    generic_skel = Skeleton()
+    actor = load_actor("m")
+    for name, mesh, skel in (("generic", body_mesh(generic_skel), generic_skel),
+                             ("actor", actor.mesh, actor.skeleton)):
+        for batch in (1, 2000):
+            q = _poses(skel, batch)
+            mesh.pose(skel, q[:2])  # compile
+            fk, total = [], []
+            for _ in range(7):
+                t0 = time.perf_counter()
+                skel.forward(q)
+                t1 = time.perf_counter()
+                mesh.pose(skel, q)
+                t2 = time.perf_counter()
+                fk.append((t1 - t0) / batch)
+                total.append((t2 - t1) / batch)
+            print(f"{name:8s} V={mesh.num_vertices:6d} F={mesh.num_faces:6d} batch={batch:5d}: "
+                  f"FK+skinning {1e3 * np.median(total):.4f} ms/pose "
+                  f"(FK alone {1e3 * np.median(fk):.4f} ms/pose)")
+
+
+if __name__ == "__main__":
+    main()
