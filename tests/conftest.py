@@ -24,3 +24,36 @@ def skeleton():  # type: ignore[no-untyped-def]
     from bodyplay.body import Skeleton
 
     return Skeleton()
+
+
+@pytest.fixture(scope="session")
+def patch_pixels():  # type: ignore[no-untyped-def]
+    """``patch_pixels(mesh, skeleton, pose, eye)``: (21,) pixel count of each patch id
+    (0 = everything else) in a 320x320 id map seen from ``eye`` looking at the chest."""
+    import numpy as np
+
+    from bodyplay.capture.camera import Camera, look_at
+    from bodyplay.render.idmap import render_idmaps
+
+    def count(mesh, skeleton, pose, eye):  # type: ignore[no-untyped-def]
+        verts = mesh.pose(skeleton, np.asarray(pose)[None])
+        chest = skeleton.joint_positions(pose)[2]
+        R, t = look_at(np.asarray(eye, dtype=float), chest)
+        cam = Camera.from_fov("test", 320, 320, 55.0, R, t)
+        ids = render_idmaps(verts, mesh.faces, mesh.face_part, cam)[0]
+        return np.bincount(ids.ravel(), minlength=21)
+
+    return count
+
+
+@pytest.fixture(scope="session")
+def synth_gl():  # type: ignore[no-untyped-def]
+    """Skip cleanly when no headless EGL context can be created (synthetic camera tests)."""
+    from bodyplay.render.gl import GLContextError, create_context
+
+    try:
+        ctx = create_context(headless=True)
+    except GLContextError as exc:
+        pytest.skip(f"no EGL OpenGL context: {exc}")
+    ctx.release()
+    return True

@@ -53,7 +53,7 @@ def read_toml_calib(path: str | Path) -> list[Camera]:
                     w,
                     h,
                     np.asarray(table["matrix"], dtype=np.float64),
-                    R,
+                    np.asarray(R, dtype=np.float64),
                     np.asarray(table["translation"], dtype=np.float64),
                     np.asarray(table.get("distortions", [0, 0, 0, 0]), dtype=np.float64),
                 )

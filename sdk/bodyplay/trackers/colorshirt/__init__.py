@@ -1,1 +1,72 @@
-"""bodyplay.trackers.colorshirt"""
+"""The color-shirt tracker (papers/color-shirt-mocap.txt): upper body from a colored shirt.
+
+Build one with :func:`create_colorshirt_tracker`; it implements
+:class:`bodyplay.trackers.base.Tracker`. Modules: :mod:`.colors` (color model and
+classifier), :mod:`.whitebalance`, :mod:`.locate` (histogram search),
+:mod:`.database` (rendered pose database), :mod:`.prediction` (rendering the
+estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.tracker` (the pipeline).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.colors import ColorModel, default_color_model
+from bodyplay.trackers.colorshirt.database import (
+    DatabaseOptions,
+    PoseDatabase,
+    load_or_build_database,
+)
+from bodyplay.trackers.colorshirt.ik import PriorModel, default_prior_model
+from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.tracker import ColorShirtTracker
+
+__all__ = [
+    "ColorShirtOptions",
+    "ColorShirtTracker",
+    "ColorModel",
+    "DatabaseOptions",
+    "PoseDatabase",
+    "PriorModel",
+    "create_colorshirt_tracker",
+]
+
+
+def create_colorshirt_tracker(
+    options: ColorShirtOptions | None = None,
+    cameras: Sequence[Camera] = (),
+    database: PoseDatabase | None = None,
+    progress: bool = False,
+) -> ColorShirtTracker:
+    """Validate the options and cameras and build a ready tracker.
+
+    The pose database is loaded from the cache (built on first use, which takes
+    about a minute per 20,000 poses) unless ``database`` is given.
+    """
+    opts = options or ColorShirtOptions()
+    cams = tuple(cameras)
+    if not 1 <= len(cams) <= 4:
+        raise ConfigError(
+            f"the color-shirt tracker needs 1 to 4 calibrated cameras, got {len(cams)}"
+        )
+    skeleton = Skeleton.from_shape(opts.body)
+    if database is None:
+        cache = Path(opts.database_cache) if opts.database_cache else None
+        database = load_or_build_database(
+            skeleton, DatabaseOptions(size=opts.database_size), cache, progress=progress
+        )
+    model = ColorModel.load(opts.color_model) if opts.color_model else default_color_model()
+    if opts.prior_model:
+        import json
+
+        p = Path(opts.prior_model)
+        if not p.exists():
+            raise ConfigError(f"{p}: no such IK prior file")
+        prior = PriorModel.from_dict(json.loads(p.read_text()))
+    else:
+        prior = default_prior_model()
+    return ColorShirtTracker(opts, cams, database, model, prior, skeleton)
