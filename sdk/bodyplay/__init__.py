@@ -1,27 +1,147 @@
 """bodyplay: a person in front of one or two webcams as game input.
 
 The public API is re-exported here; everything else is private to its module.
+Typical use::
+
+    import bodyplay
+
+    with bodyplay.create_session(source=bodyplay.ClipPoseSource("13_29")) as session:
+        @session.on("gesture")
+        def on_gesture(event: bodyplay.GestureEvent) -> None:
+            print(event.t, event.gesture, event.phase)
+
+        session.run()
 """
 
 from bodyplay.body import (
     BODY_SHAPES,
     JOINT_NAMES,
     UPPER_BODY,
+    Actor,
     BodyShape,
     Skeleton,
+    SkinnedMesh,
+    body_mesh,
     body_shape,
+    load_actor,
 )
-from bodyplay.errors import BodyplayError, ConfigError
+from bodyplay.capture import (
+    Camera,
+    CaptureFolderSource,
+    Frame,
+    FrameSet,
+    ImageFolderSource,
+    PoseTrack,
+    VideoFileSource,
+    WebcamSource,
+    look_at,
+    open_source,
+    read_calib,
+    read_pose_jsonl,
+    write_calib,
+    write_pose_jsonl,
+)
+from bodyplay.errors import (
+    BodyplayError,
+    BVHError,
+    CalibrationError,
+    CaptureError,
+    ConfigError,
+    PluginError,
+    TimestampError,
+    UnknownEventError,
+)
+from bodyplay.evaluation import EvalResult, evaluate
+from bodyplay.events import (
+    ContactEvent,
+    Event,
+    EventBus,
+    GestureEvent,
+    PoseEvent,
+    TrackingEvent,
+)
+from bodyplay.motion import MotionClip, load_clip, read_bvh, retarget, write_bvh
+from bodyplay.plugins import PluginRegistry
+from bodyplay.record import ReplaySource, read_recording, record_session
+from bodyplay.runtime import (
+    ArrayPoseSource,
+    ClipPoseSource,
+    FixedClock,
+    ManualClock,
+    PoseSample,
+    Session,
+    SessionOptions,
+    SystemClock,
+    create_session,
+)
+from bodyplay.testing import ScriptedPlayer, Timeline, scripted_session
+from bodyplay.trackers.base import Tracker, TrackerCapabilities, TrackResult
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BODY_SHAPES",
+    "JOINT_NAMES",
+    "UPPER_BODY",
+    "Actor",
+    "ArrayPoseSource",
+    "BVHError",
     "BodyShape",
     "BodyplayError",
+    "CalibrationError",
+    "Camera",
+    "CaptureError",
+    "CaptureFolderSource",
+    "ClipPoseSource",
     "ConfigError",
-    "JOINT_NAMES",
+    "ContactEvent",
+    "EvalResult",
+    "Event",
+    "EventBus",
+    "FixedClock",
+    "Frame",
+    "FrameSet",
+    "GestureEvent",
+    "ImageFolderSource",
+    "ManualClock",
+    "MotionClip",
+    "PluginError",
+    "PluginRegistry",
+    "PoseEvent",
+    "PoseSample",
+    "PoseTrack",
+    "ReplaySource",
+    "ScriptedPlayer",
+    "Session",
+    "SessionOptions",
     "Skeleton",
-    "UPPER_BODY",
+    "SkinnedMesh",
+    "SystemClock",
+    "Timeline",
+    "TimestampError",
+    "TrackResult",
+    "Tracker",
+    "TrackerCapabilities",
+    "TrackingEvent",
+    "UnknownEventError",
+    "VideoFileSource",
+    "WebcamSource",
+    "body_mesh",
     "body_shape",
+    "create_session",
+    "evaluate",
+    "load_actor",
+    "load_clip",
+    "look_at",
+    "open_source",
+    "read_bvh",
+    "read_calib",
+    "read_pose_jsonl",
+    "read_recording",
+    "record_session",
+    "retarget",
+    "scripted_session",
+    "write_bvh",
+    "write_calib",
+    "write_pose_jsonl",
 ]
