@@ -1,5 +1,7 @@
 """Skinning speed: forward kinematics + linear blend skinning per pose, for the generic
-tracker mesh and the actor, in batches as used when building pose databases.
+tracker mesh and the actor, in batches as used when building pose databases; and
+``Skeleton.forward`` alone for batches of 1, 100 and 10000 poses (single poses dominate
+live tracking and IK, large batches database builds).
 
 Run: ``.venv/bin/python benchmarks/bench_skinning.py`` (prints medians, machine, date).
 """
@@ -7,12 +9,12 @@ Run: ``.venv/bin/python benchmarks/bench_skinning.py`` (prints medians, machine,
 from __future__ import annotations
 
 import datetime
-import os
-import platform
 import time
+from collections.abc import Callable
 
 import numpy as np
 
+from _machine import machine
 from bodyplay.body import Skeleton, body_mesh, load_actor
 
 
@@ -24,11 +26,32 @@ def _poses(skeleton: Skeleton, n: int) -> np.ndarray:
     return q
 
 
+def _median_seconds(fn: Callable[[], object], repeats: int) -> float:
+    """Median wall time of ``fn()`` over ``repeats`` calls, after one warm-up call."""
+    fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
+
+
+def forward_table() -> None:
+    """Print the median time of one ``Skeleton.forward`` call per batch size."""
+    sk = Skeleton()
+    for batch, repeats in ((1, 2000), (100, 500), (10000, 15)):
+        q = _poses(sk, batch)
+        arg = q[0] if batch == 1 else q
+        t = _median_seconds(lambda arg=arg: sk.forward(arg), repeats)
+        print(f"Skeleton.forward batch={batch:5d}: {1e3 * t:8.4f} ms/call "
+              f"({1e6 * t / batch:8.3f} us/pose), median of {repeats}")
+
+
 def main() -> None:
     """Print the median time per pose over several repeats."""
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, "
-          f"{platform.python_implementation()} {platform.python_version()}; "
-          f"date: {datetime.date.today().isoformat()}")
+    print(f"machine: {machine()}; date: {datetime.date.today().isoformat()}")
+    forward_table()
     generic_skel = Skeleton()
     actor = load_actor("m")
     for name, mesh, skel in (("generic", body_mesh(generic_skel), generic_skel),

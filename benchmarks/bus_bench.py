@@ -19,18 +19,8 @@ import time
 
 import numpy as np
 
+from _machine import cpu_model
 from bodyplay.events import EventBus, GestureEvent, PoseEvent
-
-
-def _cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 class _Counter:
@@ -71,7 +61,7 @@ def main() -> None:
     a = ap.parse_args()
     if a.quick:
         a.events, a.repeats = 20_000, 3
-    print(f"date {datetime.date.today().isoformat()}; machine {_cpu_model()}, "
+    print(f"date {datetime.date.today().isoformat()}; machine {cpu_model()}, "
           f"{os.cpu_count()} cores, Python {platform.python_version()}, "
           f"load average {os.getloadavg()[0]:.1f}")
     gestures = [GestureEvent(t=i * 1e-3, emitted_t=i * 1e-3, gesture="wave", phase="performed",

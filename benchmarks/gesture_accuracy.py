@@ -12,12 +12,11 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import os
-import platform
 from pathlib import Path
 
 import numpy as np
 
+from _machine import machine
 from bodyplay.filters import one_euro_filter
 from bodyplay.gestures import GestureRecognizer, load_gestures
 from bodyplay.gestures.evaluation import GestureScore, load_labels, run_recognizer, score_events
@@ -26,19 +25,6 @@ from bodyplay.motion.clip import load_clip
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data"
 LABELS = REPO / "tests" / "fixtures" / "gestures" / "labels.toml"
-
-
-def machine() -> str:
-    """CPU model, core count and Python version, for the record."""
-    model = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def evaluate(noise_cm: float = 0.0, seed: int = 0) -> dict[str, GestureScore]:

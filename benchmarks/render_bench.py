@@ -19,6 +19,7 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
+from _machine import cpu_model
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.render import (
     GLContextError,
@@ -32,17 +33,6 @@ from bodyplay.render import (
     rasterize_ids,
 )
 from bodyplay.render.scene import primitive_figure
-
-
-def _cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 def _median_rate(fn: Callable[[], object], items: int, repeats: int) -> float:
@@ -85,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
     n_tri = len(fig.faces)
     print("# bodyplay renderer benchmark")
     print(f"date: {datetime.datetime.now().astimezone().isoformat(timespec='seconds')}")
-    print(f"machine: {_cpu_model()}, {os.cpu_count()} cores, numba {numba.__version__} "
+    print(f"machine: {cpu_model()}, {os.cpu_count()} cores, numba {numba.__version__} "
           f"({numba.get_num_threads()} threads), Python {platform.python_version()}")
     if hasattr(os, "getloadavg"):
         print("load average at start: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()))

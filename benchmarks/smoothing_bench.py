@@ -25,8 +25,6 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
-import os
-import platform
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -34,6 +32,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from _machine import machine
 from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES
 from bodyplay.filters import JointFilter, kalman_filter, one_euro_filter
 
@@ -60,19 +59,6 @@ FILTERS: dict[str, Callable[[], JointFilter]] = {
 }
 
 Sequence = tuple[str, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], list | None]
-
-
-def machine() -> str:
-    """CPU model, core count and Python version, for the record."""
-    model = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def add_noise(truth: NDArray[np.float64], rng: np.random.Generator, noise_cm: float,

@@ -57,3 +57,35 @@ def synth_gl():  # type: ignore[no-untyped-def]
         pytest.skip(f"no EGL OpenGL context: {exc}")
     ctx.release()
     return True
+
+
+@pytest.fixture(scope="session")
+def check_patches_and_views(patch_pixels):  # type: ignore[no-untyped-def]
+    """``check(mesh, skeleton)``: assert every shirt patch of ``mesh`` has a plausible
+    area and that a camera in front sees the front patches but not their same-colored
+    twins on the back (and the reverse from behind). Shared by the generic-mesh and
+    actor tests, which must both wear a usable shirt."""
+    import numpy as np
+
+    from bodyplay.body.shirt import PATCHES
+
+    front_ids = list(range(1, 11))
+    back_ids = list(range(11, 21))
+    colors = {p.id: p.color for p in PATCHES}
+
+    def check(mesh, skeleton) -> None:  # type: ignore[no-untyped-def]
+        v = mesh.rest_vertices.astype(np.float64)[mesh.faces]
+        tri = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
+        area = np.bincount(mesh.face_part, weights=tri, minlength=21)
+        assert np.all(area[1:] > 0.004), area  # every patch, at least 40 cm^2
+        assert np.all(area[1:] < 0.12), area
+        rest = skeleton.rest_pose()
+        for eye, seen, hidden in (([0, 1.5, 3.0], front_ids, back_ids),
+                                  ([0, 1.5, -3.0], back_ids, front_ids)):
+            px = patch_pixels(mesh, skeleton, rest, eye)
+            for pid in seen:
+                twin = next(q for q in hidden if colors[q] == colors[pid])
+                assert px[pid] > 40, (eye, pid, px)
+                assert px[twin] < 0.1 * px[pid], (eye, pid, twin, px)
+
+    return check

@@ -7,7 +7,6 @@ import os
 import numpy as np
 import pytest
 from scipy.spatial import Delaunay
-from test_mesh import check_patches_and_views
 
 from bodyplay.body import BODY_SHAPES, JOINT_INDEX
 from bodyplay.body.actor import Actor, actor_asset_path, load_actor
@@ -75,9 +74,9 @@ def test_truth_joints_lie_inside_the_actor_mesh(actor: Actor, bent: bool) -> Non
 
 
 def test_every_patch_is_on_the_actor_and_seen_from_its_side(  # type: ignore[no-untyped-def]
-    actor, patch_pixels
+    actor, check_patches_and_views
 ) -> None:
-    check_patches_and_views(actor.mesh, actor.skeleton, patch_pixels)
+    check_patches_and_views(actor.mesh, actor.skeleton)
 
 
 def test_actor_wears_skin_shirt_trousers_and_shoes(actor: Actor) -> None:

@@ -57,17 +57,17 @@ def matrix_to_rotvec(matrix: ArrayLike) -> NDArray[np.float64]:
 
 def rotation_between(a: ArrayLike, b: ArrayLike) -> NDArray[np.float64]:
     """The smallest rotation (as (..., 3, 3) matrices) taking direction a onto direction b."""
-    a = np.asarray(a, dtype=np.float64)
-    b = np.asarray(b, dtype=np.float64)
-    a = a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), 1e-12)
-    b = b / np.maximum(np.linalg.norm(b, axis=-1, keepdims=True), 1e-12)
-    axis = np.cross(a, b)
+    ua = np.asarray(a, dtype=np.float64)
+    ub = np.asarray(b, dtype=np.float64)
+    ua = ua / np.maximum(np.linalg.norm(ua, axis=-1, keepdims=True), 1e-12)
+    ub = ub / np.maximum(np.linalg.norm(ub, axis=-1, keepdims=True), 1e-12)
+    axis = np.cross(ua, ub)
     sin = np.linalg.norm(axis, axis=-1, keepdims=True)
-    cos = np.sum(a * b, axis=-1, keepdims=True)
+    cos = np.sum(ua * ub, axis=-1, keepdims=True)
     angle = np.arctan2(sin, cos)
     # antiparallel: rotate by pi about any axis orthogonal to a
-    ortho = np.cross(a, np.array([1.0, 0.0, 0.0]))
-    ortho_alt = np.cross(a, np.array([0.0, 1.0, 0.0]))
+    ortho = np.cross(ua, np.array([1.0, 0.0, 0.0]))
+    ortho_alt = np.cross(ua, np.array([0.0, 1.0, 0.0]))
     ortho = np.where(np.linalg.norm(ortho, axis=-1, keepdims=True) < 1e-6, ortho_alt, ortho)
     axis = np.where(sin < 1e-9, ortho, axis)
     axis = axis / np.maximum(np.linalg.norm(axis, axis=-1, keepdims=True), 1e-12)

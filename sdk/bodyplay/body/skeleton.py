@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES, NUM_JOINTS
-from bodyplay.body.rotations import rotvec_to_matrix
 from bodyplay.body.shapes import BodyShape, body_shape
 from bodyplay.errors import ConfigError
 
@@ -88,6 +88,78 @@ _LIMITS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
     "r_knee": ((-0.05, -0.1, -0.1), (2.5, 0.1, 0.1)),
     "r_ankle": ((-0.8, -0.4, -0.4), (0.6, 0.4, 0.4)),
 }
+
+
+_PARENTS = np.array(NODE_PARENTS, dtype=np.int64)
+_PARENTS.setflags(write=False)
+
+# Batches at least this large run the forward kinematics on all cores; below it the
+# thread start-up costs more than it saves.
+_PARALLEL_BATCH = 64
+
+
+@njit(cache=True)
+def _fk_pose(q, offsets, parents, out):  # pragma: no cover
+    """World transforms (N, 4, 4) of one pose vector ``q`` into ``out``.
+
+    Node rotations follow :func:`~bodyplay.body.rotations.rotvec_to_matrix` (Rodrigues,
+    first-order below 1e-8 rad); parents precede their children in node order.
+    """
+    n = parents.shape[0]
+    R = np.empty((3, 3))
+    for i in range(n):
+        rx = q[3 + 3 * i]
+        ry = q[4 + 3 * i]
+        rz = q[5 + 3 * i]
+        theta = np.sqrt(rx * rx + ry * ry + rz * rz)
+        if theta < 1e-8:
+            R[0, 0], R[0, 1], R[0, 2] = 1.0, -rz, ry
+            R[1, 0], R[1, 1], R[1, 2] = rz, 1.0, -rx
+            R[2, 0], R[2, 1], R[2, 2] = -ry, rx, 1.0
+        else:
+            kx, ky, kz = rx / theta, ry / theta, rz / theta
+            s = np.sin(theta)
+            c = 1.0 - np.cos(theta)
+            # R = I + s K + c K^2 with K the cross-product matrix of the unit axis
+            R[0, 0] = 1.0 + c * (-kz * kz - ky * ky)
+            R[0, 1] = -s * kz + c * (ky * kx)
+            R[0, 2] = s * ky + c * (kz * kx)
+            R[1, 0] = s * kz + c * (kx * ky)
+            R[1, 1] = 1.0 + c * (-kz * kz - kx * kx)
+            R[1, 2] = -s * kx + c * (kz * ky)
+            R[2, 0] = -s * ky + c * (kx * kz)
+            R[2, 1] = s * kx + c * (ky * kz)
+            R[2, 2] = 1.0 + c * (-ky * ky - kx * kx)
+        p = parents[i]
+        for a in range(3):
+            out[i, 3, a] = 0.0
+        out[i, 3, 3] = 1.0
+        if p < 0:
+            for a in range(3):
+                for b in range(3):
+                    out[i, a, b] = R[a, b]
+                out[i, a, 3] = q[a]
+        else:
+            ox, oy, oz = offsets[i, 0], offsets[i, 1], offsets[i, 2]
+            for a in range(3):
+                g0, g1, g2 = out[p, a, 0], out[p, a, 1], out[p, a, 2]
+                for b in range(3):
+                    out[i, a, b] = g0 * R[0, b] + g1 * R[1, b] + g2 * R[2, b]
+                out[i, a, 3] = out[p, a, 3] + (g0 * ox + g1 * oy + g2 * oz)
+
+
+@njit(cache=True)
+def _fk_serial(q, offsets, parents, out):  # pragma: no cover
+    """:func:`_fk_pose` for every row of ``q`` (B, pose_dim) into ``out`` (B, N, 4, 4)."""
+    for b in range(q.shape[0]):
+        _fk_pose(q[b], offsets, parents, out[b])
+
+
+@njit(cache=True, parallel=True)
+def _fk_parallel(q, offsets, parents, out):  # pragma: no cover
+    """:func:`_fk_serial` with the batch spread over all cores."""
+    for b in prange(q.shape[0]):
+        _fk_pose(q[b], offsets, parents, out[b])
 
 
 @dataclass(frozen=True)
@@ -231,29 +303,17 @@ class Skeleton:
         """Forward kinematics: (..., pose_dim) -> (..., num_nodes, 4, 4) world transforms.
 
         Each transform maps the node's local frame (rest-pose axes) to world; its
-        translation is the node's position.
+        translation is the node's position. The work is a numba kernel (Rodrigues'
+        formula and the chain down the tree per pose), parallel over large batches:
+        a single pose costs microseconds, not a Python loop over the nodes.
         """
         q = self._check(poses)
         batch = q.shape[:-1]
-        n = self.num_nodes
-        rot = rotvec_to_matrix(q[..., 3:].reshape(batch + (n, 3)))
-        offsets = self.offsets
-        G_rot = np.empty(batch + (n, 3, 3))
-        G_pos = np.empty(batch + (n, 3))
-        for i, p in enumerate(NODE_PARENTS):
-            if p < 0:
-                G_rot[..., i, :, :] = rot[..., i, :, :]
-                G_pos[..., i, :] = q[..., 0:3]
-            else:
-                G_rot[..., i, :, :] = G_rot[..., p, :, :] @ rot[..., i, :, :]
-                G_pos[..., i, :] = G_pos[..., p, :] + np.einsum(
-                    "...ij,j->...i", G_rot[..., p, :, :], offsets[i]
-                )
-        out = np.zeros(batch + (n, 4, 4))
-        out[..., :3, :3] = G_rot
-        out[..., :3, 3] = G_pos
-        out[..., 3, 3] = 1.0
-        return out
+        flat = np.ascontiguousarray(q.reshape(-1, self.pose_dim))
+        out = np.empty((flat.shape[0], self.num_nodes, 4, 4))
+        kernel = _fk_parallel if flat.shape[0] >= _PARALLEL_BATCH else _fk_serial
+        kernel(flat, self.offsets, _PARENTS, out)
+        return out.reshape(batch + (self.num_nodes, 4, 4))
 
     def node_positions(self, poses: ArrayLike) -> NDArray[np.float64]:
         """(..., num_nodes, 3) world positions of the internal nodes."""

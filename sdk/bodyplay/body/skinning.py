@@ -46,70 +46,43 @@ MATERIAL_RGB: dict[Material, tuple[int, int, int]] = {
 """Default sRGB of each material; shirt vertices take their patch color instead."""
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def _lbs_kernel(M, rest, idx, w, out):  # type: ignore[no-untyped-def]
-    """out[b, v] = sum_k w[v, k] * M[b, idx[v, k]] @ [rest[v], 1] (M is (B, N, 3, 4))."""
-    B = M.shape[0]
+@njit(cache=True, fastmath=True)
+def _lbs_pose(M, rest, idx, w, out):
+    """out[v] = sum_k w[v, k] * M[idx[v, k]] @ [rest[v], 1] for one pose (M is (N, 3, 4))."""
     V = rest.shape[0]
     K = idx.shape[1]
-    for b in prange(B):
-        for v in range(V):
-            x = rest[v, 0]
-            y = rest[v, 1]
-            z = rest[v, 2]
-            ox = np.float32(0.0)
-            oy = np.float32(0.0)
-            oz = np.float32(0.0)
-            for k in range(K):
-                wk = w[v, k]
-                if wk == 0.0:
-                    continue
-                n = idx[v, k]
-                ox += wk * (
-                    M[b, n, 0, 0] * x + M[b, n, 0, 1] * y + M[b, n, 0, 2] * z + M[b, n, 0, 3]
-                )
-                oy += wk * (
-                    M[b, n, 1, 0] * x + M[b, n, 1, 1] * y + M[b, n, 1, 2] * z + M[b, n, 1, 3]
-                )
-                oz += wk * (
-                    M[b, n, 2, 0] * x + M[b, n, 2, 1] * y + M[b, n, 2, 2] * z + M[b, n, 2, 3]
-                )
-            out[b, v, 0] = ox
-            out[b, v, 1] = oy
-            out[b, v, 2] = oz
+    for v in range(V):
+        x = rest[v, 0]
+        y = rest[v, 1]
+        z = rest[v, 2]
+        ox = np.float32(0.0)
+        oy = np.float32(0.0)
+        oz = np.float32(0.0)
+        for k in range(K):
+            wk = w[v, k]
+            if wk == 0.0:
+                continue
+            n = idx[v, k]
+            ox += wk * (M[n, 0, 0] * x + M[n, 0, 1] * y + M[n, 0, 2] * z + M[n, 0, 3])
+            oy += wk * (M[n, 1, 0] * x + M[n, 1, 1] * y + M[n, 1, 2] * z + M[n, 1, 3])
+            oz += wk * (M[n, 2, 0] * x + M[n, 2, 1] * y + M[n, 2, 2] * z + M[n, 2, 3])
+        out[v, 0] = ox
+        out[v, 1] = oy
+        out[v, 2] = oz
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def _lbs_kernel(M, rest, idx, w, out):
+    """:func:`_lbs_pose` for every pose of M (B, N, 3, 4), parallel over the batch."""
+    for b in prange(M.shape[0]):
+        _lbs_pose(M[b], rest, idx, w, out[b])
 
 
 @njit(cache=True, fastmath=True)
-def _lbs_serial(M, rest, idx, w, out):  # type: ignore[no-untyped-def]
+def _lbs_serial(M, rest, idx, w, out):
     """Single-threaded :func:`_lbs_kernel` for small batches (no thread start-up)."""
-    B = M.shape[0]
-    V = rest.shape[0]
-    K = idx.shape[1]
-    for b in range(B):
-        for v in range(V):
-            x = rest[v, 0]
-            y = rest[v, 1]
-            z = rest[v, 2]
-            ox = np.float32(0.0)
-            oy = np.float32(0.0)
-            oz = np.float32(0.0)
-            for k in range(K):
-                wk = w[v, k]
-                if wk == 0.0:
-                    continue
-                n = idx[v, k]
-                ox += wk * (
-                    M[b, n, 0, 0] * x + M[b, n, 0, 1] * y + M[b, n, 0, 2] * z + M[b, n, 0, 3]
-                )
-                oy += wk * (
-                    M[b, n, 1, 0] * x + M[b, n, 1, 1] * y + M[b, n, 1, 2] * z + M[b, n, 1, 3]
-                )
-                oz += wk * (
-                    M[b, n, 2, 0] * x + M[b, n, 2, 1] * y + M[b, n, 2, 2] * z + M[b, n, 2, 3]
-                )
-            out[b, v, 0] = ox
-            out[b, v, 1] = oy
-            out[b, v, 2] = oz
+    for b in range(M.shape[0]):
+        _lbs_pose(M[b], rest, idx, w, out[b])
 
 
 def skinning_transforms(skeleton: Skeleton, poses: ArrayLike) -> NDArray[np.float64]:

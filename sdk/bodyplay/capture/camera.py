@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -93,15 +94,15 @@ class Camera:
         }
 
     @classmethod
-    def from_dict(cls, data: dict[str, object], where: str = "calib.json") -> Camera:
+    def from_dict(cls, data: Mapping[str, Any], where: str = "calib.json") -> Camera:
         """Read one camera entry of calib.json, naming missing keys in errors."""
         missing = [k for k in ("name", "width", "height", "K", "R", "t") if k not in data]
         if missing:
             raise CalibrationError(f"{where}: camera entry lacks {', '.join(missing)}")
         return cls(
             str(data["name"]),
-            int(data["width"]),  # type: ignore[call-overload]
-            int(data["height"]),  # type: ignore[call-overload]
+            int(data["width"]),
+            int(data["height"]),
             np.asarray(data["K"], dtype=float),
             np.asarray(data["R"], dtype=float),
             np.asarray(data["t"], dtype=float),

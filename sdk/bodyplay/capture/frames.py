@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,7 +43,7 @@ class FrameSet:
     def __len__(self) -> int:
         return len(self.frames)
 
-    def __iter__(self):  # type: ignore[no-untyped-def]
+    def __iter__(self) -> Iterator[Frame]:
         return iter(self.frames)
 
     def __getitem__(self, i: int) -> Frame:

@@ -378,9 +378,10 @@ class CaptureFolderSource(_SourceBase):
         names = [c.name for c in self.cameras]
         try:
             for i in range(self.frame_count):
-                images = [next(s, None) for s in streams]
-                if any(im is None for im in images):
-                    short = [n for n, im in zip(names, images, strict=True) if im is None]
+                got = [next(s, None) for s in streams]
+                images = [im for im in got if im is not None]
+                if len(images) < len(got):
+                    short = [n for n, im in zip(names, got, strict=True) if im is None]
                     warnings.warn(
                         f"{self.folder}: {', '.join(short)} ended at frame {i}, before the "
                         f"{self.frame_count} frames its header declares; stopping there",
@@ -390,7 +391,7 @@ class CaptureFolderSource(_SourceBase):
                 t = i / self.fps
                 yield FrameSet(
                     tuple(
-                        Frame(im, t, i, n)  # type: ignore[arg-type]
+                        Frame(im, t, i, n)
                         for im, n in zip(images, names, strict=True)
                     ),
                     t,

@@ -17,7 +17,7 @@ from bodyplay.errors import ConfigError
 __all__ = ["register", "run"]
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``calibrate`` sub-command."""
     p = subparsers.add_parser(
         "calibrate",

@@ -11,7 +11,7 @@ from bodyplay.evaluation import JOINT_SETS, evaluate, plot_errors
 __all__ = ["register", "run"]
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``eval`` sub-command."""
     p = subparsers.add_parser(
         "eval",

@@ -11,13 +11,14 @@ import sys
 from collections import Counter
 
 from bodyplay.commands._session_args import add_session_arguments, session_from_args
+from bodyplay.events.types import Event
 from bodyplay.plugins import PluginRegistry
 from bodyplay.record.recorder import EventLogWriter, RecorderOptions
 
 __all__ = ["register", "run"]
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``events`` sub-command."""
     p = subparsers.add_parser(
         "events",
@@ -43,8 +44,8 @@ def run(args: argparse.Namespace) -> int:
     if args.out == "-":
         from bodyplay.record.format import event_line
 
-        def write(e: object) -> None:
-            sys.stdout.write(event_line(e).decode())  # type: ignore[arg-type]
+        def write(e: Event) -> None:
+            sys.stdout.write(event_line(e).decode())
 
         for n in names:
             session.bus.subscribe(n, write)

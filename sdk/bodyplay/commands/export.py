@@ -19,7 +19,7 @@ from bodyplay.record.format import read_recording
 __all__ = ["register", "run"]
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``export`` sub-command."""
     p = subparsers.add_parser(
         "export",

@@ -7,7 +7,7 @@ import argparse
 from bodyplay.capture.external import import_capture
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``import`` sub-command."""
     p = subparsers.add_parser(
         "import",

@@ -17,7 +17,7 @@ from bodyplay.record.recorder import RecorderOptions, record_session
 __all__ = ["register", "run"]
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``record`` sub-command."""
     p = subparsers.add_parser(
         "record",

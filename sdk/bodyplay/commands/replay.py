@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import BONES, JOINT_INDEX
 from bodyplay.capture.camera import Camera, look_at
+from bodyplay.capture.video import VideoWriter
 from bodyplay.errors import CaptureError, ConfigError
 from bodyplay.record.format import read_recording
 
@@ -31,7 +32,7 @@ _COLORS = {"l": (255, 140, 40), "r": (40, 60, 255), "c": (230, 230, 230)}  # BGR
 _HAND_COLORS = {"l_wrist": (255, 140, 40), "r_wrist": (40, 60, 255)}
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``replay`` sub-command."""
     p = subparsers.add_parser(
         "replay",
@@ -161,12 +162,8 @@ def run(args: argparse.Namespace) -> int:
     pw = max(w // 2, 240)
     panel, boxes = _panel(times, kin, pw, h)
     out = Path(args.out)
-    fourcc = cv2.VideoWriter.fourcc(*("MJPG" if out.suffix.lower() == ".avi" else "mp4v"))
-    writer = cv2.VideoWriter(str(out), fourcc, rec.fps, (w + pw, h))
-    if not writer.isOpened():
-        raise CaptureError(f"{out}: OpenCV cannot write this video; use .mp4 or .avi")
     span = max(float(times[-1] - times[0]), 1e-9)
-    try:
+    with VideoWriter(out, rec.fps) as video:
         for i, p in enumerate(poses):
             view = np.full((h, w, 3), 40, np.uint8)
             _floor(view, cam, center)
@@ -181,9 +178,7 @@ def run(args: argparse.Namespace) -> int:
             x = int(boxes[0][2] + (p.t - times[0]) / span * (pw - 10 - boxes[0][2]))
             for top, bottom, _ in boxes:
                 cv2.line(side, (x, top), (x, bottom), (0, 220, 220), 1)
-            writer.write(np.hstack([view, side]))
-    finally:
-        writer.release()
+            video.write(np.hstack([view, side])[:, :, ::-1])  # drawn in BGR; write RGB
     for hand in HANDS:
         sp, ac = kin[hand]
         if not np.any(np.isfinite(sp)):

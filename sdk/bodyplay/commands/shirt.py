@@ -139,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``bodyplay shirt``."""
     p = subparsers.add_parser("shirt", help="draw the printable color-shirt pattern (PNG)",
                               description=__doc__)

@@ -9,8 +9,9 @@ smoothing NaNs. The session calls ``filter(t, joints, state)`` once per frame an
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Protocol, runtime_checkable
+from collections.abc import Mapping, Sequence
+from dataclasses import fields, replace
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,7 +19,19 @@ from numpy.typing import ArrayLike, NDArray
 from bodyplay.body.joints import NUM_JOINTS
 from bodyplay.errors import ConfigError, TimestampError
 
-__all__ = ["JointFilter", "JointState", "as_joints", "lost_mask", "check_timestamp"]
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+__all__ = [
+    "JointFilter",
+    "JointState",
+    "as_joints",
+    "lost_mask",
+    "check_timestamp",
+    "with_overrides",
+]
+
+_Options = TypeVar("_Options", bound="DataclassInstance")
 
 JointState = Sequence[str] | None
 """Per-joint tracker state (``tracked``, ``inferred`` or ``lost``), or None when unknown."""
@@ -73,3 +86,18 @@ def check_timestamp(t: float, last_t: float | None) -> float:
             "pass strictly increasing capture times (or reset() the filter)"
         )
     return float(t - last_t)
+
+
+def with_overrides(base: _Options, overrides: Mapping[str, Any], what: str) -> _Options:
+    """``base`` (a frozen options dataclass) with keyword ``overrides`` replaced.
+
+    The filter factories take options as keywords; a misspelt name must be an error
+    naming the known ones (``what`` names the filter in it), not silently ignored.
+    """
+    known = {f.name for f in fields(base)}
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise ConfigError(
+            f"unknown {what} option(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}"
+        )
+    return replace(base, **overrides)

@@ -24,7 +24,7 @@ so the numpy back-end keeps one n x n covariance per joint.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -34,7 +34,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import NUM_JOINTS
 from bodyplay.errors import ConfigError
-from bodyplay.filters.base import JointState, as_joints, check_timestamp, lost_mask
+from bodyplay.filters.base import (
+    JointState,
+    as_joints,
+    check_timestamp,
+    lost_mask,
+    with_overrides,
+)
 
 __all__ = ["KalmanOptions", "KalmanJointFilter", "kalman_filter"]
 
@@ -103,13 +109,7 @@ def kalman_filter(options: KalmanOptions | None = None, **overrides: Any) -> Kal
     invalid values raise :class:`~bodyplay.errors.ConfigError`.
     """
     base = options if options is not None else KalmanOptions()
-    known = {f.name for f in fields(KalmanOptions)}
-    unknown = sorted(set(overrides) - known)
-    if unknown:
-        raise ConfigError(
-            f"unknown Kalman option(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}"
-        )
-    return KalmanJointFilter(replace(base, **overrides))
+    return KalmanJointFilter(with_overrides(base, overrides, "Kalman"))
 
 
 def _transition(order: int, dt: float) -> NDArray[np.float64]:

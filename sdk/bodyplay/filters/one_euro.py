@@ -13,7 +13,7 @@ oriented); ``speed="coordinate"`` filters each coordinate on its own, as in the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -21,7 +21,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import NUM_JOINTS
 from bodyplay.errors import ConfigError
-from bodyplay.filters.base import JointState, as_joints, check_timestamp, lost_mask
+from bodyplay.filters.base import (
+    JointState,
+    as_joints,
+    check_timestamp,
+    lost_mask,
+    with_overrides,
+)
 
 __all__ = ["OneEuroOptions", "OneEuroFilter", "one_euro_filter", "smoothing_factor"]
 
@@ -65,13 +71,7 @@ def one_euro_filter(options: OneEuroOptions | None = None, **overrides: Any) -> 
     e.g. ``one_euro_filter(min_cutoff=0.8, beta=3.0)``.
     """
     base = options if options is not None else OneEuroOptions()
-    known = {f.name for f in fields(OneEuroOptions)}
-    unknown = sorted(set(overrides) - known)
-    if unknown:
-        raise ConfigError(
-            f"unknown One Euro option(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}"
-        )
-    return OneEuroFilter(replace(base, **overrides))
+    return OneEuroFilter(with_overrides(base, overrides, "One Euro"))
 
 
 def smoothing_factor(cutoff: NDArray[np.float64], dt: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -55,10 +56,10 @@ class GestureOptions:
     emit_canceled: bool = True
 
 
-def gesture_options(**kwargs: object) -> GestureOptions:
+def gesture_options(**kwargs: Any) -> GestureOptions:
     """Build validated :class:`GestureOptions` (ConfigError for unknown or bad values)."""
     try:
-        o = GestureOptions(**kwargs)  # type: ignore[arg-type]
+        o = GestureOptions(**kwargs)
     except TypeError as e:
         raise ConfigError(f"bad gesture option: {e}") from None
     _validate(o)

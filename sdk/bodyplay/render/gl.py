@@ -26,6 +26,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.errors import BodyplayError, ConfigError
 
 __all__ = [
+    "Accumulation",
     "DEFAULT_LIGHTS",
     "GLContextError",
     "Light",
@@ -173,10 +174,12 @@ class RenderMesh:
 
     ``colors`` is (V, 3) float 0..1 per vertex or one (3,) colour for all;
     ``normals`` (V, 3) are computed (smooth, area-weighted) when None. The arrays
-    are validated and converted to float32 / int32 once, here.
+    are validated and converted to float32 / int32 once, here. ``closed`` says the
+    mesh is watertight and wound counter-clockwise seen from outside: its back
+    faces are then culled (the same picture for about half the raster work).
     """
 
-    __slots__ = ("vertices", "faces", "colors", "normals")
+    __slots__ = ("vertices", "faces", "colors", "normals", "closed")
 
     def __init__(
         self,
@@ -184,6 +187,7 @@ class RenderMesh:
         faces: ArrayLike,
         colors: ArrayLike = (0.8, 0.8, 0.8),
         normals: ArrayLike | None = None,
+        closed: bool = False,
     ) -> None:
         v = np.ascontiguousarray(vertices, dtype=np.float32)
         f = np.ascontiguousarray(faces, dtype=np.int32)
@@ -206,6 +210,7 @@ class RenderMesh:
         self.faces: NDArray[np.int32] = f
         self.colors: NDArray[np.float32] = c
         self.normals: NDArray[np.float32] = n
+        self.closed = bool(closed)
 
     def interleaved(self) -> NDArray[np.float32]:
         """(V, 9) position, normal, colour rows as the vertex buffer holds them."""
@@ -309,6 +314,21 @@ out vec4 f_color;
 void main() { f_color = vec4(texture(image, v_uv).rgb, 1.0); }
 """
 
+_ADD_VS = """
+#version 330
+void main() {
+    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+    gl_Position = vec4(p, 0.0, 1.0);
+}
+"""
+
+_ADD_FS = """
+#version 330
+uniform sampler2D layer;
+out vec4 f_color;
+void main() { f_color = texelFetch(layer, ivec2(gl_FragCoord.xy), 0); }
+"""
+
 _IDS_VS = """
 #version 330
 uniform mat4 mvp;
@@ -327,6 +347,43 @@ flat in uint v_id;
 out uint f_id;
 void main() { f_id = v_id; }
 """
+
+
+@dataclass(frozen=True, eq=False)
+class Accumulation:
+    """Sub-frame renders of meshes (no background) summed in float: a motion-blur exposure.
+
+    ``rgba`` (h, w, 4) float32, top row first, is the window of the (``width``,
+    ``height``) frame at column ``x0``, row ``y0`` that holds every sub-frame's
+    meshes (nothing was drawn outside it): rgb sums the shaded linear colour times
+    coverage over the ``count`` sub-frames, alpha sums the coverage (the number of
+    sub-frames covering the pixel; fractional with MSAA). :meth:`composite` puts it
+    over a background, which is what averaging ``count`` full renders gives.
+    """
+
+    rgba: NDArray[np.float32]
+    x0: int
+    y0: int
+    count: int
+    width: int
+    height: int
+
+    def composite(self, background: NDArray[np.float32]) -> NDArray[np.float32]:
+        """Average of the sub-frames over a linear (H, W, 3) float32 ``background`` (copied)."""
+        bg = np.asarray(background, dtype=np.float32)
+        if bg.shape != (self.height, self.width, 3):
+            raise ConfigError(
+                f"composite needs a ({self.height}, {self.width}, 3) background, got {bg.shape}"
+            )
+        out = bg.copy()
+        h, w = self.rgba.shape[:2]
+        if h and w:
+            win = out[self.y0 : self.y0 + h, self.x0 : self.x0 + w]
+            inv = np.float32(1.0 / self.count)
+            keep = 1.0 - self.rgba[:, :, 3:] * inv  # share of the exposure the wall shows
+            win *= keep
+            win += self.rgba[:, :, :3] * inv
+        return out
 
 
 class _Slot:
@@ -405,6 +462,7 @@ class ShadedRenderer:
         )
         self._slots: list[_Slot] = []
         self._rgb = bytearray(o.width * o.height * 3)
+        self._acc_objs: list[Any] = []  # float targets of accumulate(), made on first use
         self._released = False
 
     # ---- helpers ---------------------------------------------------------------------
@@ -453,6 +511,84 @@ class ShadedRenderer:
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._bg_vao.render(moderngl.TRIANGLES, vertices=3)
 
+    def _setup_shading(self, cam: Camera, lights: Sequence[Light]) -> None:
+        if len(lights) > _MAX_LIGHTS:
+            raise ConfigError(f"at most {_MAX_LIGHTS} lights, got {len(lights)}")
+        o = self.options
+        p = self._shaded
+        p["mvp"].write(self._mvp(cam))  # type: ignore[union-attr]
+        vecs = np.zeros((_MAX_LIGHTS, 4), np.float32)
+        rgbs = np.zeros((_MAX_LIGHTS, 3), np.float32)
+        for i, light in enumerate(lights):
+            vecs[i] = light.as_vec4()
+            rgbs[i] = np.asarray(light.color, np.float32) * light.intensity
+        if "light_vec" in p:
+            p["light_vec"].write(vecs.tobytes())  # type: ignore[union-attr]
+            p["light_rgb"].write(rgbs.tobytes())  # type: ignore[union-attr]
+        self._set(p, "n_lights", len(lights))
+        self._set(p, "eye", tuple(float(x) for x in cam.center))
+        self._set(p, "ambient", o.ambient)
+        self._set(p, "specular", o.specular)
+        self._set(p, "shininess", o.shininess)
+
+    def _draw_meshes(self, meshes: Sequence[RenderMesh]) -> None:
+        while len(self._slots) < len(meshes):
+            self._slots.append(_Slot(self.ctx, self._shaded))
+        for slot, mesh in zip(self._slots, meshes, strict=False):
+            slot.upload(mesh)
+            if mesh.closed:
+                self.ctx.front_face = "ccw"
+                self.ctx.cull_face = "back"
+                self.ctx.enable(moderngl.CULL_FACE)
+            slot.vao.render(moderngl.TRIANGLES, vertices=slot.count)
+            self.ctx.disable(moderngl.CULL_FACE)
+
+    def _window(self, meshes: Sequence[RenderMesh], cam: Camera) -> tuple[int, int, int, int]:
+        """Image window (x0, y0, x1, y1), exclusive ends, holding every vertex's projection.
+
+        The whole frame when a vertex is at or behind the near plane (its projection
+        says nothing about where its triangles land).
+        """
+        o = self.options
+        v = np.concatenate([m.vertices for m in meshes]).astype(np.float64)
+        if not len(v):
+            return (0, 0, 0, 0)
+        x = v @ cam.R.T + cam.t
+        z = x[:, 2]
+        if z.min() <= o.near:
+            return (0, 0, o.width, o.height)
+        K = cam.K
+        u = (K[0, 0] * x[:, 0] + K[0, 1] * x[:, 1]) / z + K[0, 2]
+        w = K[1, 1] * x[:, 1] / z + K[1, 2]
+        # pixel x covers [x - 0.5, x + 0.5]: one pixel of margin either side
+        x0 = max(0, int(np.floor(u.min())) - 1)
+        x1 = min(o.width, int(np.ceil(u.max())) + 2)
+        y0 = max(0, int(np.floor(w.min())) - 1)
+        y1 = min(o.height, int(np.ceil(w.max())) + 2)
+        if x1 <= x0 or y1 <= y0:
+            return (0, 0, 0, 0)
+        return (x0, y0, x1, y1)
+
+    def _float_targets(self) -> list[Any]:
+        if not self._acc_objs:
+            ctx, o = self.ctx, self.options
+            size = (o.width, o.height)
+            layer = ctx.texture(size, 4, dtype="f4")
+            layer.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            depth = ctx.depth_renderbuffer(size)
+            acc = ctx.texture(size, 4, dtype="f4")
+            prog = ctx.program(vertex_shader=_ADD_VS, fragment_shader=_ADD_FS)
+            objs: list[Any] = [
+                ctx.framebuffer([layer], depth), ctx.framebuffer([acc]),
+                ctx.vertex_array(prog, []), prog, layer, depth, acc,
+            ]
+            if o.samples:
+                mc = ctx.renderbuffer(size, 4, samples=o.samples, dtype="f4")
+                md = ctx.depth_renderbuffer(size, samples=o.samples)
+                objs += [ctx.framebuffer([mc], md), mc, md]
+            self._acc_objs = objs
+        return self._acc_objs
+
     # ---- public API ------------------------------------------------------------------
     def render(
         self,
@@ -483,31 +619,70 @@ class ShadedRenderer:
             self._draw_background(background)
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.depth_func = "<"
-        p = self._shaded
-        self._shaded["mvp"].write(self._mvp(cam))  # type: ignore[union-attr]
-        vecs = np.zeros((_MAX_LIGHTS, 4), np.float32)
-        rgbs = np.zeros((_MAX_LIGHTS, 3), np.float32)
-        for i, light in enumerate(lights):
-            vecs[i] = light.as_vec4()
-            rgbs[i] = np.asarray(light.color, np.float32) * light.intensity
-        if "light_vec" in p:
-            p["light_vec"].write(vecs.tobytes())  # type: ignore[union-attr]
-            p["light_rgb"].write(rgbs.tobytes())  # type: ignore[union-attr]
-        self._set(p, "n_lights", len(lights))
-        self._set(p, "eye", tuple(float(x) for x in cam.center))
-        self._set(p, "ambient", o.ambient)
-        self._set(p, "specular", o.specular)
-        self._set(p, "shininess", o.shininess)
-        while len(self._slots) < len(meshes):
-            self._slots.append(_Slot(ctx, p))
-        for slot, mesh in zip(self._slots, meshes, strict=False):
-            slot.upload(mesh)
-            slot.vao.render(moderngl.TRIANGLES, vertices=slot.count)
+        self._setup_shading(cam, lights)
+        self._draw_meshes(meshes)
         if self._ms_fbo is not None:
             ctx.copy_framebuffer(self._fbo, self._ms_fbo)
         self._fbo.read_into(self._rgb, components=3, alignment=1)
         img = np.frombuffer(self._rgb, dtype=np.uint8).reshape(o.height, o.width, 3)
         return np.ascontiguousarray(img[::-1])
+
+    def accumulate(
+        self,
+        sub_frames: Sequence[Sequence[RenderMesh] | RenderMesh],
+        camera: Camera,
+        lights: Sequence[Light] = DEFAULT_LIGHTS,
+    ) -> Accumulation:
+        """Shade each sub-frame's meshes (no background) and sum them in float on the GPU.
+
+        For motion blur: one read-back per exposure, of the window the meshes cover
+        only, with no 8-bit rounding; ``Accumulation.composite`` adds the background
+        once. Same shading and conventions as :meth:`render`.
+        """
+        self._check_alive()
+        subs = [[m] if isinstance(m, RenderMesh) else list(m) for m in sub_frames]
+        if not subs:
+            raise ConfigError("accumulate needs at least one sub-frame")
+        cam = self._camera(camera)
+        o = self.options
+        x0, y0, x1, y1 = self._window([m for sub in subs for m in sub], cam)
+        if x1 <= x0:
+            empty = np.zeros((0, 0, 4), np.float32)
+            return Accumulation(empty, 0, 0, len(subs), o.width, o.height)
+        ctx = self.ctx
+        layer_fbo, acc_fbo, add_vao, add_prog, layer_tex = self._float_targets()[:5]
+        ms_fbo = self._acc_objs[7] if o.samples else None
+        draw_fbo = ms_fbo if ms_fbo is not None else layer_fbo
+        box = (x0, o.height - y1, x1 - x0, y1 - y0)  # GL rows count from the bottom
+        for fbo in (layer_fbo, acc_fbo, draw_fbo):
+            fbo.scissor = box
+        acc_fbo.use()
+        acc_fbo.clear(0.0, 0.0, 0.0, 0.0, viewport=box)
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        self._setup_shading(cam, lights)
+        self._set(add_prog, "layer", 0)
+        for sub in subs:
+            draw_fbo.use()
+            draw_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=box)
+            ctx.enable(moderngl.DEPTH_TEST)
+            ctx.depth_func = "<"
+            self._draw_meshes(sub)
+            if ms_fbo is not None:
+                ctx.copy_framebuffer(layer_fbo, ms_fbo)
+            acc_fbo.use()
+            ctx.disable(moderngl.DEPTH_TEST)
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = (moderngl.ONE, moderngl.ONE)
+            layer_tex.use(0)
+            add_vao.render(moderngl.TRIANGLES, vertices=3)
+            ctx.disable(moderngl.BLEND)
+        ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA)  # moderngl default
+        for fbo in (layer_fbo, acc_fbo, draw_fbo):
+            fbo.scissor = None
+        data = acc_fbo.read(viewport=box, components=4, dtype="f4", alignment=1)
+        rgba = np.frombuffer(data, dtype=np.float32).reshape(y1 - y0, x1 - x0, 4)
+        return Accumulation(np.ascontiguousarray(rgba[::-1]), x0, y0, len(subs),
+                            o.width, o.height)
 
     def render_ids(
         self,
@@ -574,6 +749,7 @@ class ShadedRenderer:
             objs += [self._ms_fbo, *self._ms_bufs]
         if self._bg_tex is not None:
             objs.append(self._bg_tex)
+        objs += self._acc_objs
         for obj in objs:
             obj.release()
         if self._owns_ctx:

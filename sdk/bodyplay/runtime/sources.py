@@ -167,7 +167,7 @@ class ClipPoseSource(ArrayPoseSource):
         capabilities: Sequence[str] = (),
     ) -> None:
         if isinstance(clip, str) or hasattr(clip, "__fspath__"):
-            from bodyplay.motion import load_clip  # type: ignore[attr-defined]
+            from bodyplay.motion import load_clip
 
             clip = load_clip(clip, fps=fps)
         self.clip = clip

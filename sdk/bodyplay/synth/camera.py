@@ -22,14 +22,16 @@ curve with a fixed white balance (so a warm lamp gives an orange picture).
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Iterator, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from types import TracebackType
 from typing import TYPE_CHECKING, Any, Self
 
 import cv2
 import numpy as np
-import scipy.sparse
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import JOINT_NAMES
@@ -41,12 +43,12 @@ from bodyplay.synth.lighting import LightingState, lighting_preset
 from bodyplay.synth.occluder import PanelMesh, occluder_panel
 from bodyplay.synth.options import SyntheticCameraOptions, make_synthetic_camera_options
 from bodyplay.synth.rig import Rig, distortion_maps, frame_rig, make_rig_options
-from bodyplay.synth.sensor import Sensor, average_linear, noise_level, srgb_to_linear
+from bodyplay.synth.sensor import Sensor, noise_level, srgb_to_linear
 
 if TYPE_CHECKING:
     from bodyplay.body.actor import Actor
     from bodyplay.motion.clip import MotionClip
-    from bodyplay.render.gl import Light, RenderMesh, ShadedRenderer
+    from bodyplay.render.gl import Accumulation, Light, RenderMesh, ShadedRenderer
 
 __all__ = ["SynthFrame", "SyntheticCamera"]
 
@@ -56,6 +58,9 @@ _BLUR_STEP_PX = 3.0
 # Fine time grid for clips: poses are resampled at fps * _SUBSTEPS once.
 _SUBSTEPS = 8
 _RENDER_AMBIENT = 0.06  # the renderer's neutral floor; the colored ambient is a fill light
+# Clip frames rendered ahead while a worker thread develops (sensor, lens) earlier ones.
+_PIPELINE_DEPTH = 1
+_BG_CACHE_SIZE = 8  # lit backgrounds kept (float32 frames; flickering light misses anyway)
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,6 +90,53 @@ class SynthFrame:
 
 def _lin_colors(rgb_u8: NDArray[np.uint8]) -> NDArray[np.float32]:
     return srgb_to_linear(rgb_u8.astype(np.float64) / 255.0).astype(np.float32)
+
+
+@njit(cache=True, nogil=True)
+def _vertex_normals(verts, faces, out):  # type: ignore[no-untyped-def]
+    """out (n, V, 3) = unit area-weighted smooth normals of posed meshes verts (n, V, 3)."""
+    n, nv = verts.shape[0], verts.shape[1]
+    acc = np.zeros((nv, 3), np.float64)
+    for k in range(n):
+        acc[:] = 0.0
+        for f in range(faces.shape[0]):
+            a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+            e1x = verts[k, b, 0] - verts[k, a, 0]
+            e1y = verts[k, b, 1] - verts[k, a, 1]
+            e1z = verts[k, b, 2] - verts[k, a, 2]
+            e2x = verts[k, c, 0] - verts[k, a, 0]
+            e2y = verts[k, c, 1] - verts[k, a, 1]
+            e2z = verts[k, c, 2] - verts[k, a, 2]
+            nx = e1y * e2z - e1z * e2y
+            ny = e1z * e2x - e1x * e2z
+            nz = e1x * e2y - e1y * e2x
+            for v in (a, b, c):
+                acc[v, 0] += nx
+                acc[v, 1] += ny
+                acc[v, 2] += nz
+        for v in range(nv):
+            length = math.sqrt(acc[v, 0] ** 2 + acc[v, 1] ** 2 + acc[v, 2] ** 2)
+            inv = 1.0 / max(length, 1e-12)
+            out[k, v, 0] = acc[v, 0] * inv
+            out[k, v, 1] = acc[v, 1] * inv
+            out[k, v, 2] = acc[v, 2] * inv
+
+
+def _is_closed(vertices: NDArray[np.floating], faces: NDArray[np.int32]) -> bool:
+    """Whether a mesh is watertight and wound outwards (back faces may be culled)."""
+    import trimesh
+
+    tm = trimesh.Trimesh(np.asarray(vertices, np.float64), faces, process=False)
+    return bool(tm.is_watertight and tm.is_winding_consistent and tm.volume > 0)
+
+
+@dataclass(frozen=True, eq=False)
+class _Exposure:
+    """One camera's rendered exposure, waiting for the sensor (see ``_develop``)."""
+
+    acc: Accumulation
+    background: NDArray[np.float32]
+    cam_index: int
 
 
 class SyntheticCamera:
@@ -138,14 +190,10 @@ class SyntheticCamera:
         mesh = actor.mesh
         self._faces = np.ascontiguousarray(mesh.faces, dtype=np.int32)
         self._colors = _lin_colors(mesh.vertex_rgb)
-        nf = len(self._faces)
-        self._incidence = scipy.sparse.csr_matrix(
-            (np.ones(3 * nf, np.float32), (self._faces.ravel(), np.repeat(np.arange(nf), 3))),
-            shape=(mesh.num_vertices, nf),
-        )
+        self._closed_mesh = _is_closed(mesh.rest_vertices, self._faces)
         bg = [load_background(o.background, o.width, o.height, i) for i in range(o.cameras)]
         self._bg_linear = [srgb_to_linear(b / 255.0).astype(np.float32) for b in bg]
-        self._bg_cache: dict[tuple[int, float, float, float], NDArray[np.uint8]] = {}
+        self._bg_cache: dict[tuple[int, float, float, float], NDArray[np.float32]] = {}
         self._renderer = renderer
         self._owns_renderer = renderer is None
         self._panels: dict[int, tuple[PanelMesh, ...]] = {}
@@ -209,8 +257,8 @@ class SyntheticCamera:
             )
         return out
 
-    def _background(self, cam_index: int, state: LightingState) -> NDArray[np.uint8]:
-        """The background lit by the room's light, linear, as uint8 for the renderer."""
+    def _background(self, cam_index: int, state: LightingState) -> NDArray[np.float32]:
+        """The background lit by the room's light, linear float32 (read-only, cached)."""
         ill = state.room_illuminant()
         ref = lighting_preset("steady").state(0.0, None).room_illuminant()
         gain = ill / float(ref.mean())
@@ -218,9 +266,9 @@ class SyntheticCamera:
                round(float(gain[2]), 3))
         cached = self._bg_cache.get(key)
         if cached is None:
-            lin = self._bg_linear[cam_index] * gain.astype(np.float32)
-            cached = np.clip(lin * 255.0 + 0.5, 0, 255).astype(np.uint8)
-            if len(self._bg_cache) > 64:
+            cached = self._bg_linear[cam_index] * gain.astype(np.float32)
+            cached.flags.writeable = False
+            if len(self._bg_cache) >= _BG_CACHE_SIZE:
                 self._bg_cache.clear()
             self._bg_cache[key] = cached
         return cached
@@ -234,21 +282,18 @@ class SyntheticCamera:
         return self._panels[0]
 
     def _normals(self, verts: NDArray[np.float32]) -> NDArray[np.float32]:
-        """(n, V, 3) smooth vertex normals of posed meshes (area-weighted, one sparse product)."""
-        f = self._faces
-        fn = np.cross(verts[:, f[:, 1]] - verts[:, f[:, 0]], verts[:, f[:, 2]] - verts[:, f[:, 0]])
-        n = verts.shape[0]
-        acc = self._incidence @ np.ascontiguousarray(fn.transpose(1, 0, 2).reshape(len(f), 3 * n))
-        nv = np.asarray(acc, dtype=np.float32).reshape(-1, n, 3).transpose(1, 0, 2)
-        nv /= np.maximum(np.linalg.norm(nv, axis=-1, keepdims=True), 1e-12)
-        return np.ascontiguousarray(nv)
+        """(n, V, 3) smooth vertex normals of posed meshes (area-weighted; a numba kernel)."""
+        v = np.ascontiguousarray(verts, dtype=np.float32)
+        out = np.empty_like(v)
+        _vertex_normals(v, self._faces, out)
+        return out
 
     def _render_meshes(
         self, verts: NDArray[np.float32], normals: NDArray[np.float32], t: float
     ) -> list[RenderMesh]:
         from bodyplay.render.gl import RenderMesh
 
-        meshes = [RenderMesh(verts, self._faces, self._colors, normals)]
+        meshes = [RenderMesh(verts, self._faces, self._colors, normals, closed=self._closed_mesh)]
         for p in self._occluders(t):
             meshes.append(RenderMesh(p.vertices, p.faces, _lin_colors(
                 np.round(p.colors * 255).astype(np.uint8)), p.normals))
@@ -266,35 +311,53 @@ class SyntheticCamera:
             return 1
         return int(min(self.options.max_subframes, max(1, math.ceil(d / _BLUR_STEP_PX))))
 
-    def _shoot(
-        self, t: float, index: int, pose: NDArray[np.float64], sub_poses: NDArray[np.float64]
-    ) -> SynthFrame:
-        """Render sub-frame poses (n, D), average, develop; truth from ``pose``."""
+    def _expose(
+        self, t: float, sub_poses: NDArray[np.float64]
+    ) -> list[_Exposure]:
+        """Render sub-frame poses (n, D) of every camera, summed on the GPU (GL thread)."""
         if self._closed:
             raise ConfigError("this SyntheticCamera was closed; create a new one")
-        o = self.options
         gl = self._gl()
         verts = self.actor.mesh.pose(self.skeleton, sub_poses)
         state = self._preset.state(t, self.duration)
         normals = self._normals(verts)
         meshes_per_sub = [self._render_meshes(v, n, t) for v, n in zip(verts, normals, strict=True)]
-        frames = []
+        out = []
         for ci, cam in enumerate(self._pinhole):
-            lights = self._lights(state, cam)
-            bg = self._background(ci, state)
-            renders = [gl.render(m, cam, background=bg, lights=lights) for m in meshes_per_sub]
-            linear = average_linear(renders, srgb_encoded=False)
+            acc = gl.accumulate(meshes_per_sub, cam, lights=self._lights(state, cam))
+            out.append(_Exposure(acc, self._background(ci, state), ci))
+        return out
+
+    def _develop(
+        self, t: float, index: int, pose: NDArray[np.float64], exposures: list[_Exposure]
+    ) -> SynthFrame:
+        """Background, lens and sensor of rendered exposures; truth from ``pose``.
+
+        No GL: runs in a worker thread while the next frame renders. The noise
+        comes from a generator seeded by (seed, frame, camera), so the frames do not
+        depend on the thread timing.
+        """
+        frames = []
+        for ex in exposures:
+            ci = ex.cam_index
+            linear = ex.acc.composite(ex.background)  # the shutter's average, linear light
             maps = self._maps[ci]
             if maps is not None:
                 warped = cv2.remap(
                     linear, maps[0], maps[1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT
                 )
                 linear = np.asarray(warped, dtype=np.float32)
-            rng = np.random.default_rng([o.seed, index, ci])
+            rng = np.random.default_rng([self.options.seed, index, ci])
             image = self._sensor.develop(linear, rng)
-            frames.append(Frame(image, t, index, cam.name))
+            frames.append(Frame(image, t, index, self.cameras[ci].name))
         joints = self.skeleton.joint_positions(pose)
         return SynthFrame(FrameSet(tuple(frames), t, index), joints, pose, t, index)
+
+    def _shoot(
+        self, t: float, index: int, pose: NDArray[np.float64], sub_poses: NDArray[np.float64]
+    ) -> SynthFrame:
+        """Render sub-frame poses (n, D), average, develop; truth from ``pose``."""
+        return self._develop(t, index, pose, self._expose(t, sub_poses))
 
     # ---- public API --------------------------------------------------------------------
     def capture(self, t: float, pose: ArrayLike, index: int | None = None) -> SynthFrame:
@@ -376,20 +439,34 @@ class SyntheticCamera:
             n = min(n, frames)
         half = self._preset.exposure * _SUBSTEPS / 2.0
         last = fine.num_frames - 1
-        for i in range(n):
-            c = i * _SUBSTEPS
-            pose = fine.poses[c]
-            a = fine.poses[max(0, int(round(c - half)))]
-            b = fine.poses[min(last, int(round(c + half)))]
-            k = self._subframe_count(a, b)
-            if k > 1:
-                # sub-frame times spread over the exposure, centred on the frame time
-                offs = (np.arange(k) + 0.5) / k * 2.0 * half - half
-                idx = np.clip(np.round(c + offs).astype(int), 0, last)
-                sub = fine.poses[idx]
-            else:
-                sub = pose[None]
-            yield self._shoot(i / self.fps, i, pose, sub)
+        # GL renders frame i + 1 here while a worker develops frame i (sensor noise,
+        # JPEG: numpy and OpenCV release the GIL) and the caller encodes it.
+        pending: deque[Future[SynthFrame]] = deque()
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="synth-develop") as pool:
+            try:
+                for i in range(n):
+                    c = i * _SUBSTEPS
+                    pose = fine.poses[c]
+                    a = fine.poses[max(0, int(round(c - half)))]
+                    b = fine.poses[min(last, int(round(c + half)))]
+                    k = self._subframe_count(a, b)
+                    if k > 1:
+                        # sub-frame times spread over the exposure, centred on the frame time
+                        offs = (np.arange(k) + 0.5) / k * 2.0 * half - half
+                        idx = np.clip(np.round(c + offs).astype(int), 0, last)
+                        sub = fine.poses[idx]
+                    else:
+                        sub = pose[None]
+                    t = i / self.fps
+                    exposures = self._expose(t, sub)
+                    pending.append(pool.submit(self._develop, t, i, pose, exposures))
+                    if len(pending) > _PIPELINE_DEPTH:
+                        yield pending.popleft().result()
+                while pending:
+                    yield pending.popleft().result()
+            finally:
+                for fut in pending:
+                    fut.cancel()
 
     def __iter__(self) -> Iterator[FrameSet]:
         """Frame sets of the camera's clip (the frame-source protocol)."""

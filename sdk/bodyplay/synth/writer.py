@@ -18,10 +18,12 @@ from typing import Any
 
 import cv2
 import numpy as np
+from numpy.typing import NDArray
 
 import bodyplay
 from bodyplay.capture.camera import write_calib
 from bodyplay.capture.jsonl import PoseJsonlWriter
+from bodyplay.capture.video import VideoWriter
 from bodyplay.errors import CaptureError, ConfigError
 from bodyplay.synth.camera import SyntheticCamera, SynthFrame
 
@@ -40,32 +42,34 @@ class CaptureSummary:
 
 
 class _VideoSink:
-    """One camera's mp4 (OpenCV's mp4v encoder) or folder of numbered PNGs."""
+    """One camera's mp4 (the shared :class:`VideoWriter`) or folder of numbered PNGs."""
 
-    def __init__(self, folder: Path, name: str, fmt: str, fps: float, size: tuple[int, int]):
-        self.fmt = fmt
+    def __init__(self, folder: Path, name: str, fmt: str, fps: float):
+        self.video: VideoWriter | None = None
         if fmt == "mp4":
             self.path = folder / f"{name}.mp4"
-            fourcc = cv2.VideoWriter_fourcc(*"mp4v")  # type: ignore[attr-defined]
-            self.writer: cv2.VideoWriter | None = cv2.VideoWriter(str(self.path), fourcc, fps, size)
-            if not self.writer.isOpened():
-                raise CaptureError(f"{self.path}: OpenCV cannot write mp4 here; try --format png")
+            self.video = VideoWriter(self.path, fps)
         else:
             self.path = folder / name
             self.path.mkdir(parents=True, exist_ok=True)
-            self.writer = None
 
-    def write(self, index: int, rgb: np.ndarray) -> None:
-        bgr = np.ascontiguousarray(rgb[:, :, ::-1])
-        if self.writer is not None:
-            self.writer.write(bgr)
-        elif not cv2.imwrite(str(self.path / f"{index:06d}.png"), bgr):
+    def write(self, index: int, rgb: NDArray[np.uint8]) -> None:
+        if self.video is not None:
+            opening = self.video.frames == 0  # the encoder is opened on the first frame
+            try:
+                self.video.write(rgb)
+            except CaptureError as exc:
+                if not opening:
+                    raise
+                raise CaptureError(f"{exc}; try --format png") from None
+        elif not cv2.imwrite(str(self.path / f"{index:06d}.png"),
+                             np.ascontiguousarray(rgb[:, :, ::-1])):
             raise CaptureError(f"{self.path}: could not write frame {index}")
 
     def close(self) -> None:
-        if self.writer is not None:
-            self.writer.release()
-            self.writer = None
+        if self.video is not None:
+            self.video.close()
+            self.video = None
 
 
 def write_capture(
@@ -84,7 +88,7 @@ def write_capture(
         raise ConfigError(f"{folder}: exists and is not a folder; choose another --out")
     folder.mkdir(parents=True, exist_ok=True)
     o = camera.options
-    sinks = [_VideoSink(folder, c.name, o.format, o.fps, o.size) for c in camera.cameras]
+    sinks = [_VideoSink(folder, c.name, o.format, o.fps) for c in camera.cameras]
     count = 0
     try:
         with PoseJsonlWriter(folder / "truth.jsonl") as truth:
