@@ -93,9 +93,10 @@ _LIMITS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
 _PARENTS = np.array(NODE_PARENTS, dtype=np.int64)
 _PARENTS.setflags(write=False)
 
-# Batches at least this large run the forward kinematics on all cores; below it the
-# thread start-up costs more than it saves.
-_PARALLEL_BATCH = 64
+# Batches at least this large run the forward kinematics on all cores. A pose costs
+# about 1-3 us, so below this waking the worker threads (which may be descheduled on a
+# busy machine) costs as much as it saves.
+_PARALLEL_BATCH = 1024
 
 
 @njit(cache=True)

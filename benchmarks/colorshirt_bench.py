@@ -1,0 +1,171 @@
+"""Benchmark of the color-shirt tracker on synthetic captures of real motion clips.
+
+Renders (once, cached in --work) synthetic captures of Bandai Namco clips, which
+the pose database is not built from (it samples the built-in CMU clips), under
+the lighting presets, and runs the tracker with one and two cameras, with and
+without adaptive white balance and pose prior. Prints upper-body MPJPE (cm), the
+share of frames found and the median processing time per camera frame, plus the
+machine and the date. Also checks the real videos in ../shared/data/video (nobody
+wears the shirt there): the share of frames reported lost.
+
+    .venv/bin/python benchmarks/colorshirt_bench.py            # the full table
+    .venv/bin/python benchmarks/colorshirt_bench.py --quick    # steady, 2 clips
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from bodyplay.capture.camera import Camera
+from bodyplay.capture.frames import Frame, FrameSet
+from bodyplay.capture.jsonl import read_pose_jsonl
+from bodyplay.capture.sources import open_source
+from bodyplay.trackers.colorshirt import (
+    ColorShirtOptions,
+    DatabaseOptions,
+    create_colorshirt_tracker,
+)
+from bodyplay.trackers.colorshirt.database import load_or_build_database
+
+DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+BANDAI = DATA / "mocap" / "bandai_namco"
+CLIPS = (
+    "dataset-2_wave-both-hands_normal_001",
+    "dataset-1_punch_normal_001",
+    "dataset-2_raise-up-both-hands_normal_001",
+    "dataset-1_dance-short_normal_001",
+)
+LIGHTINGS = ("steady", "tungsten", "fluorescent", "dim", "mixed", "switch")
+
+
+def capture(work: Path, clip: str, lighting: str, seconds: float) -> Path:
+    """The synthetic capture folder of a clip under a lighting preset (rendered once)."""
+    out = work / f"{clip}_{lighting}_{seconds:g}s"
+    if not (out / "truth.jsonl").exists():
+        subprocess.run(
+            [sys.executable, "-m", "bodyplay.cli", "synth", "--clip", str(BANDAI / f"{clip}.bvh"),
+             "--out", str(out), "--cameras", "2", "--seconds", str(seconds),
+             "--lighting", lighting], check=True, stdout=subprocess.DEVNULL,
+        )
+    return out
+
+
+def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[str, float]:  # type: ignore[no-untyped-def]
+    """Track a capture; MPJPE (cm) over frames with a pose, found share, ms per camera frame."""
+    src = open_source(folder)
+    assert src.cameras is not None
+    tracker = create_colorshirt_tracker(opts, src.cameras[:ncam], database=db)
+    truth = read_pose_jsonl(folder / "truth.jsonl")
+    errs, ms, found, n = [], [], 0, 0
+    with src:
+        for fs in src:
+            r = tracker.process(FrameSet(fs.frames[:ncam], fs.t, fs.index))
+            n += 1
+            ms.append(r.ms / ncam)
+            if r.found:
+                found += 1
+                errs.append(np.linalg.norm(r.joints[:11] - truth.joints[fs.index][:11], axis=1))
+    e = np.array(errs)
+    return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
+            "found": found / max(n, 1), "ms_per_camera_frame": float(np.median(ms[1:])),
+            "frames": n}
+
+
+def real_video_lost(db, max_frames: int = 150) -> dict[str, float]:  # type: ignore[no-untyped-def]
+    """Share of frames reported lost on real videos of people without the shirt."""
+    out = {}
+    videos = sorted((DATA / "video").glob("*/*.mp4")) + sorted((DATA / "video").glob("*/*/*.mp4"))
+    for path in videos:
+        cap = cv2.VideoCapture(str(path))
+        tracker = None
+        n = lost = 0
+        while n < max_frames:
+            ok, frame = cap.read()
+            if not ok:
+                break
+            h = int(round(640 * frame.shape[0] / frame.shape[1]))
+            img = cv2.cvtColor(cv2.resize(frame, (640, h)), cv2.COLOR_BGR2RGB)
+            if tracker is None:
+                cam = Camera.from_fov("cam0", 640, h, 60.0)
+                tracker = create_colorshirt_tracker(ColorShirtOptions(), (cam,), database=db)
+            t = n / 30.0
+            r = tracker.process(FrameSet((Frame(img, t, n),), t, n))
+            n += 1
+            lost += int(not r.found)
+        out[str(path.relative_to(DATA))] = lost / max(n, 1)
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark and print its table (and JSON with --json)."""
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--work", default=str(Path.home() / ".cache" / "bodyplay" / "bench_captures"))
+    ap.add_argument("--seconds", type=float, default=3.0)
+    ap.add_argument("--db-size", type=int, default=20_000)
+    ap.add_argument("--quick", action="store_true", help="steady light, two clips")
+    ap.add_argument("--lightings", default=",".join(LIGHTINGS))
+    ap.add_argument("--clips", default=",".join(CLIPS))
+    ap.add_argument("--no-ablation", action="store_true")
+    ap.add_argument("--no-real", action="store_true")
+    ap.add_argument("--json", help="also write the figures to this JSON file")
+    args = ap.parse_args(argv)
+    if not BANDAI.exists():
+        print("shared data not found; nothing to benchmark")
+        return 1
+    work = Path(args.work)
+    work.mkdir(parents=True, exist_ok=True)
+    clips = args.clips.split(",")[:2] if args.quick else args.clips.split(",")
+    lightings = ["steady"] if args.quick else args.lightings.split(",")
+    t0 = time.perf_counter()
+    from bodyplay.body.skeleton import Skeleton
+
+    db = load_or_build_database(Skeleton(), DatabaseOptions(size=args.db_size), progress=True)
+    print(f"# colorshirt benchmark, {datetime.date.today()}, {platform.processor() or platform.machine()}, "
+          f"{os.cpu_count()} cpus, database {len(db)} poses")
+    results: dict[str, object] = {"date": str(datetime.date.today()), "db_size": len(db)}
+    configs = [("full", ColorShirtOptions(database_size=args.db_size))]
+    if not args.no_ablation:
+        configs.append(("no-wb-no-prior", ColorShirtOptions(
+            database_size=args.db_size, adaptive_white_balance=False, pose_prior=False)))
+    rows = []
+    for lighting in lightings:
+        for name, opts in configs:
+            if name != "full" and lighting not in ("steady", "switch"):
+                continue
+            for ncam in (2, 1):
+                per = [run_capture(capture(work, c, lighting, args.seconds), ncam, opts, db)
+                       for c in clips]
+                mp = float(np.mean([p["mpjpe_cm"] for p in per]))
+                fd = float(np.mean([p["found"] for p in per]))
+                ms = float(np.median([p["ms_per_camera_frame"] for p in per]))
+                rows.append((lighting, name, ncam, mp, fd, ms))
+                each = ", ".join(f"{p['mpjpe_cm']:.1f}" for p in per)
+                print(f"{lighting:12s} {name:15s} cams={ncam}  MPJPE {mp:5.2f} cm  "
+                      f"found {100 * fd:5.1f}%  {ms:5.1f} ms/camera-frame  "
+                      f"(per clip: {each})", flush=True)
+    results["rows"] = [dict(zip(("lighting", "config", "cameras", "mpjpe_cm", "found",
+                                 "ms_per_camera_frame"), r, strict=True)) for r in rows]
+    if not args.no_real and (DATA / "video").exists():
+        lost = real_video_lost(db)
+        results["real_video_lost"] = lost
+        for k, v in lost.items():
+            print(f"real video {k}: lost on {100 * v:.1f}% of frames")
+    print(f"# total {time.perf_counter() - t0:.0f} s")
+    if args.json:
+        Path(args.json).write_text(json.dumps(results, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
