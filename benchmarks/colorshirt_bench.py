@@ -131,8 +131,9 @@ def main(argv: list[str] | None = None) -> int:
     from bodyplay.body.skeleton import Skeleton
 
     db = load_or_build_database(Skeleton(), DatabaseOptions(size=args.db_size), progress=True)
-    print(f"# colorshirt benchmark, {datetime.date.today()}, {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cpus, database {len(db)} poses")
+    cpu = platform.processor() or platform.machine()
+    print(f"# colorshirt benchmark, {datetime.date.today()}, {cpu}, {os.cpu_count()} cpus, "
+          f"database {len(db)} poses")
     results: dict[str, object] = {"date": str(datetime.date.today()), "db_size": len(db)}
     configs = [("full", ColorShirtOptions(database_size=args.db_size))]
     if not args.no_ablation:

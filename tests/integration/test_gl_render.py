@@ -1,5 +1,5 @@
-"""Specifications of the moderngl renderers (bodyplay.render.gl), checked against the
-numba rasterizer and the Camera's projection."""
+"""Specifications of the moderngl renderers (bodyplay.render.gl, .shaded, .accumulate),
+checked against the numba rasterizer and the Camera's projection."""
 
 from __future__ import annotations
 
@@ -10,18 +10,10 @@ import pytest
 
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
-from bodyplay.render.gl import (
-    GLContextError,
-    Light,
-    RenderMesh,
-    ShadedRenderer,
-    ShadedRendererOptions,
-    create_context,
-    gl_projection,
-    gl_view,
-)
+from bodyplay.render.gl import GLContextError, create_context, gl_projection, gl_view
 from bodyplay.render.idmap import render_idmaps, silhouettes
 from bodyplay.render.scene import primitive_figure
+from bodyplay.render.shaded import Light, RenderMesh, ShadedRenderer, ShadedRendererOptions
 
 
 def _camera(width: int = 640, height: int = 480) -> Camera:
@@ -168,3 +160,60 @@ def test_renderer_options_and_lights_are_validated() -> None:
         Light(direction=(0, 0, 1), position=(0, 0, 0))
     with pytest.raises(ConfigError, match="colors"):
         RenderMesh(np.zeros((3, 3)), [[0, 1, 2]], colors=np.zeros((2, 3)))
+
+
+@pytest.mark.gl
+def test_closed_meshes_cull_back_faces_without_changing_the_picture(gl_ctx: object) -> None:
+    fig = primitive_figure(1, seed=16)  # trimesh primitives: watertight, wound outwards
+    cam = _camera(160, 120)
+    with ShadedRenderer(ShadedRendererOptions(160, 120), ctx=gl_ctx) as r:  # type: ignore[arg-type]
+        two_sided = r.render(RenderMesh(fig.vertices[0], fig.faces, fig.colors), cam)
+        culled = r.render(RenderMesh(fig.vertices[0], fig.faces, fig.colors, closed=True), cam)
+        inside_out = r.render(
+            RenderMesh(fig.vertices[0], fig.faces[:, ::-1], fig.colors, closed=True), cam
+        )
+    assert two_sided.max(axis=2).mean() > 5  # the figure is in view
+    assert (np.abs(two_sided.astype(int) - culled).max(axis=2) <= 1).mean() >= 0.999
+    # wound the wrong way, a closed mesh shows its far side: proof faces are culled
+    assert (np.abs(two_sided.astype(int) - inside_out).max(axis=2) > 8).mean() > 0.005
+
+
+@pytest.mark.gl
+def test_one_accumulated_sub_frame_composites_to_the_rendered_image(gl_ctx: object) -> None:
+    fig = primitive_figure(1, seed=17)
+    cam = _camera(160, 120)
+    bg = np.random.default_rng(1).integers(0, 256, (120, 160, 3), dtype=np.uint8)
+    mesh = RenderMesh(fig.vertices[0], fig.faces, fig.colors)
+    with ShadedRenderer(ShadedRendererOptions(160, 120), ctx=gl_ctx) as r:  # type: ignore[arg-type]
+        img = r.render(mesh, cam, background=bg)
+        acc = r.accumulate([mesh], cam)
+    assert acc.count == 1 and (acc.width, acc.height) == (160, 120)
+    h, w = acc.rgba.shape[:2]
+    assert 0 < h < 120 and 0 < w < 160  # a window around the figure, not the frame
+    assert set(np.unique(acc.rgba[:, :, 3])) == {0.0, 1.0}  # no MSAA: all or nothing
+    out = acc.composite((bg / 255).astype(np.float32))
+    np.testing.assert_allclose(out * 255, img, atol=1.0)
+    sil = silhouettes(fig.vertices, fig.faces, cam)[0]
+    covered = np.zeros((120, 160), bool)
+    covered[acc.y0 : acc.y0 + h, acc.x0 : acc.x0 + w] = acc.rgba[:, :, 3] > 0
+    assert (covered == sil).mean() >= 0.995
+
+
+@pytest.mark.gl
+def test_accumulated_sub_frames_average_like_separate_renders(gl_ctx: object) -> None:
+    fig = primitive_figure(3, seed=18)
+    cam = _camera(160, 120)
+    bg = np.full((120, 160, 3), 90, np.uint8)
+    subs = [RenderMesh(fig.vertices[b], fig.faces, fig.colors) for b in range(3)]
+    opts = ShadedRendererOptions(160, 120, samples=4)
+    with ShadedRenderer(opts, ctx=gl_ctx) as r:  # type: ignore[arg-type]
+        renders = [r.render(m, cam, background=bg).astype(np.float64) for m in subs]
+        acc = r.accumulate(subs, cam)
+        empty = r.accumulate([[]], cam)
+        with pytest.raises(ConfigError, match="at least one"):
+            r.accumulate([], cam)
+    assert acc.count == 3 and acc.rgba[:, :, 3].max() == pytest.approx(3.0)
+    out = acc.composite((bg / 255).astype(np.float32)) * 255
+    np.testing.assert_allclose(out, np.mean(renders, axis=0), atol=1.5)
+    assert empty.rgba.shape == (0, 0, 4) and empty.count == 1
+    np.testing.assert_array_equal(empty.composite(bg.astype(np.float32)), bg)

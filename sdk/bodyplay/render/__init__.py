@@ -2,22 +2,14 @@
 
 :mod:`bodyplay.render.idmap` rasterizes many posed meshes into small id maps at once
 for the trackers' pose databases; :mod:`bodyplay.render.gl` owns every OpenGL
-context and draws lit meshes for the synthetic camera and the apps;
-:mod:`bodyplay.render.scene` builds a primitive stick figure for tests and benchmarks.
+context and the camera matrices; :mod:`bodyplay.render.shaded` draws lit meshes for
+the synthetic camera and the apps, with motion-blur exposures summed in float by
+:mod:`bodyplay.render.accumulate`; :mod:`bodyplay.render.scene` builds a primitive
+stick figure for tests and benchmarks.
 """
 
-from bodyplay.render.gl import (
-    DEFAULT_LIGHTS,
-    GLContextError,
-    Light,
-    RenderMesh,
-    ShadedRenderer,
-    ShadedRendererOptions,
-    create_context,
-    gl_projection,
-    gl_view,
-    vertex_normals,
-)
+from bodyplay.render.accumulate import Accumulation
+from bodyplay.render.gl import GLContextError, create_context, gl_projection, gl_view
 from bodyplay.render.idmap import (
     CropResult,
     IdMapRenderer,
@@ -30,9 +22,18 @@ from bodyplay.render.idmap import (
     silhouettes,
 )
 from bodyplay.render.scene import PrimitiveFigure, primitive_figure
+from bodyplay.render.shaded import (
+    DEFAULT_LIGHTS,
+    Light,
+    RenderMesh,
+    ShadedRenderer,
+    ShadedRendererOptions,
+    vertex_normals,
+)
 
 __all__ = [
     "DEFAULT_LIGHTS",
+    "Accumulation",
     "CropResult",
     "GLContextError",
     "IdMapRenderer",

@@ -48,7 +48,8 @@ from bodyplay.synth.sensor import Sensor, noise_level, srgb_to_linear
 if TYPE_CHECKING:
     from bodyplay.body.actor import Actor
     from bodyplay.motion.clip import MotionClip
-    from bodyplay.render.gl import Accumulation, Light, RenderMesh, ShadedRenderer
+    from bodyplay.render.accumulate import Accumulation
+    from bodyplay.render.shaded import Light, RenderMesh, ShadedRenderer
 
 __all__ = ["SynthFrame", "SyntheticCamera"]
 
@@ -204,7 +205,7 @@ class SyntheticCamera:
     # ---- plumbing --------------------------------------------------------------------
     def _gl(self) -> ShadedRenderer:
         if self._renderer is None:
-            from bodyplay.render.gl import ShadedRenderer, ShadedRendererOptions
+            from bodyplay.render.shaded import ShadedRenderer, ShadedRendererOptions
 
             o = self.options
             self._renderer = ShadedRenderer(
@@ -240,7 +241,7 @@ class SyntheticCamera:
         return np.asarray(d[0] * r.right + d[1] * np.array([0.0, 1.0, 0.0]) + d[2] * r.forward)
 
     def _lights(self, state: LightingState, cam: Camera) -> list[Light]:
-        from bodyplay.render.gl import Light
+        from bodyplay.render.shaded import Light
 
         out = []
         for spec in state.lights:
@@ -291,7 +292,7 @@ class SyntheticCamera:
     def _render_meshes(
         self, verts: NDArray[np.float32], normals: NDArray[np.float32], t: float
     ) -> list[RenderMesh]:
-        from bodyplay.render.gl import RenderMesh
+        from bodyplay.render.shaded import RenderMesh
 
         meshes = [RenderMesh(verts, self._faces, self._colors, normals, closed=self._closed_mesh)]
         for p in self._occluders(t):
