@@ -61,6 +61,7 @@ from bodyplay.events import (
     TrackingEvent,
 )
 from bodyplay.motion import MotionClip, load_clip, read_bvh, retarget, write_bvh
+from bodyplay.physics import PhysicsObject, PhysicsOptions, PhysicsWorld, attach_physics
 from bodyplay.plugins import PluginRegistry
 from bodyplay.record import ReplaySource, read_recording, record_session
 from bodyplay.runtime import (
@@ -105,6 +106,9 @@ __all__ = [
     "ImageFolderSource",
     "ManualClock",
     "MotionClip",
+    "PhysicsObject",
+    "PhysicsOptions",
+    "PhysicsWorld",
     "PluginError",
     "PluginRegistry",
     "PoseEvent",
@@ -126,6 +130,7 @@ __all__ = [
     "UnknownEventError",
     "VideoFileSource",
     "WebcamSource",
+    "attach_physics",
     "body_mesh",
     "body_shape",
     "create_session",
