@@ -76,7 +76,7 @@ from bodyplay.runtime import (
     create_session,
 )
 from bodyplay.testing import ScriptedPlayer, Timeline, scripted_session
-from bodyplay.trackers.base import Tracker, TrackerCapabilities, TrackResult
+from bodyplay.trackers import Tracker, TrackerCapabilities, TrackResult, create_tracker
 
 __version__ = "0.1.0"
 
@@ -134,6 +134,7 @@ __all__ = [
     "body_mesh",
     "body_shape",
     "create_session",
+    "create_tracker",
     "evaluate",
     "load_actor",
     "load_clip",
