@@ -113,12 +113,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--work", default=str(Path.home() / ".cache" / "bodyplay" / "bench_captures"))
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--db-size", type=int, default=20_000)
+    ap.add_argument("--body", default="m", help="body preset of the tracker's generic skeleton")
     ap.add_argument("--quick", action="store_true", help="steady light, two clips")
     ap.add_argument("--lightings", default=",".join(LIGHTINGS))
     ap.add_argument("--clips", default=",".join(CLIPS))
     ap.add_argument("--no-ablation", action="store_true")
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--json", help="also write the figures to this JSON file")
+    ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE",
+                    help="override a ColorShirtOptions field, e.g. --set ik_rounds=2")
     args = ap.parse_args(argv)
     if not BANDAI.exists():
         print("shared data not found; nothing to benchmark")
@@ -130,15 +133,20 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     from bodyplay.body.skeleton import Skeleton
 
-    db = load_or_build_database(Skeleton(), DatabaseOptions(size=args.db_size), progress=True)
+    db = load_or_build_database(Skeleton.from_shape(args.body), DatabaseOptions(size=args.db_size),
+                                progress=True)
     cpu = platform.processor() or platform.machine()
     print(f"# colorshirt benchmark, {datetime.date.today()}, {cpu}, {os.cpu_count()} cpus, "
-          f"database {len(db)} poses")
+          f"database {len(db)} poses, body preset {args.body}")
     results: dict[str, object] = {"date": str(datetime.date.today()), "db_size": len(db)}
-    configs = [("full", ColorShirtOptions(database_size=args.db_size))]
+    import ast
+
+    extra = {k: ast.literal_eval(v) for k, v in (item.split("=", 1) for item in args.set)}
+    configs = [("full", ColorShirtOptions(database_size=args.db_size, body=args.body, **extra))]
     if not args.no_ablation:
         configs.append(("no-wb-no-prior", ColorShirtOptions(
-            database_size=args.db_size, adaptive_white_balance=False, pose_prior=False)))
+            database_size=args.db_size, body=args.body, adaptive_white_balance=False,
+            pose_prior=False)))
     rows = []
     for lighting in lightings:
         for name, opts in configs:

@@ -1,0 +1,277 @@
+"""The shirt's color model: ten Gaussians in RGB and Mahalanobis pixel classification.
+
+The color-shirt paper models each of the ten fabric colors as a Gaussian
+``N(mu_k, Sigma_k)`` in RGB (0..255) and classifies a white-balanced pixel ``W I``
+as the nearest color in Mahalanobis distance when that distance is under ``T``
+(3 in step 1, 5 with the pose prior of step 3); farther pixels are unclassified.
+
+A *color id map* is a ``uint8`` image with 0 for unclassified / background and
+``k + 1`` for shirt color ``k`` (0..9, the order of
+:data:`bodyplay.body.shirt.SHIRT_COLORS`). The database of rendered poses uses the
+same convention, so classified crops and renders compare pixel by pixel.
+
+The classification kernel is numba-compiled: it white-balances, measures all ten
+distances, adds the optional per-color pose-prior penalty and thresholds in one
+pass over the pixels.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from functools import cached_property
+from importlib import resources
+from pathlib import Path
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
+from bodyplay.errors import ConfigError
+
+__all__ = [
+    "ColorModel",
+    "Classification",
+    "default_color_model",
+    "srgb_color_model",
+    "DEFAULT_MODEL_RESOURCE",
+]
+
+DEFAULT_MODEL_RESOURCE = "color_model.json"
+"""File name of the shipped default model inside ``bodyplay/assets/colorshirt``."""
+
+_RIDGE = 4.0  # added to every covariance diagonal (RGB units squared): keeps it invertible
+
+
+@numba.njit(cache=True, nogil=True)
+def _classify_kernel(  # pragma: no cover - compiled
+    image: NDArray[np.uint8],
+    W: NDArray[np.float32],
+    means: NDArray[np.float32],
+    linv: NDArray[np.float32],
+    threshold: float,
+    mask: NDArray[np.bool_],
+    use_mask: bool,
+    penalty: NDArray[np.float32],
+    use_penalty: bool,
+) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
+    h, w = image.shape[0], image.shape[1]
+    k = means.shape[0]
+    ids = np.zeros((h, w), np.uint8)
+    best = np.full((h, w), np.inf, np.float32)
+    for y in range(h):
+        for x in range(w):
+            if use_mask and not mask[y, x]:
+                continue
+            r = np.float32(image[y, x, 0])
+            g = np.float32(image[y, x, 1])
+            b = np.float32(image[y, x, 2])
+            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
+            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
+            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
+            bd = np.float32(np.inf)
+            bk = -1
+            for c in range(k):
+                d0 = p0 - means[c, 0]
+                d1 = p1 - means[c, 1]
+                d2 = p2 - means[c, 2]
+                # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
+                z0 = linv[c, 0, 0] * d0
+                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
+                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
+                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+                if use_penalty:
+                    dist += penalty[y, x, c]
+                if dist < bd:
+                    bd = dist
+                    bk = c
+            best[y, x] = bd
+            if bd < threshold:
+                ids[y, x] = bk + 1
+    return ids, best
+
+
+@dataclass(frozen=True, eq=False)
+class Classification:
+    """A classified image: color id map (0 = none, k+1 = color k) and best distances."""
+
+    ids: NDArray[np.uint8]
+    distance: NDArray[np.float32]
+
+    def fraction_classified(self, mask: NDArray[np.bool_] | None = None) -> float:
+        """Fraction of (foreground) pixels that received a color: the paper's 40% test."""
+        if mask is None:
+            return float(np.count_nonzero(self.ids)) / max(self.ids.size, 1)
+        n = int(np.count_nonzero(mask))
+        return float(np.count_nonzero(self.ids[mask])) / max(n, 1)
+
+
+@dataclass(frozen=True, eq=False)
+class ColorModel:
+    """Ten Gaussians ``N(mu_k, Sigma_k)`` in RGB 0..255, one per shirt color.
+
+    Build one with :meth:`fit` (labeled pixels), :func:`srgb_color_model` (the
+    nominal fabric colors) or :func:`default_color_model` (the shipped fit).
+    """
+
+    means: NDArray[np.float64]
+    covariances: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        m = np.asarray(self.means, dtype=np.float64)
+        c = np.asarray(self.covariances, dtype=np.float64)
+        if m.shape != (NUM_COLORS, 3) or c.shape != (NUM_COLORS, 3, 3):
+            raise ConfigError(
+                f"a color model needs ({NUM_COLORS}, 3) means and ({NUM_COLORS}, 3, 3) "
+                f"covariances, got {m.shape} and {c.shape}"
+            )
+        if not (np.all(np.isfinite(m)) and np.all(np.isfinite(c))):
+            raise ConfigError("color model contains NaN or infinite values")
+        try:
+            np.linalg.cholesky(c)
+        except np.linalg.LinAlgError:
+            raise ConfigError("color model covariances must be positive definite") from None
+        object.__setattr__(self, "means", m)
+        object.__setattr__(self, "covariances", c)
+
+    # ---- construction ------------------------------------------------------------
+    @classmethod
+    def fit(cls, pixels: ArrayLike, labels: ArrayLike, min_pixels: int = 20) -> ColorModel:
+        """Fit the ten Gaussians to RGB ``pixels`` (N, 3) with color ``labels`` (N,).
+
+        Labels are color indices 0..9; negative labels are ignored. Every color needs
+        at least ``min_pixels`` samples; a small ridge keeps covariances invertible.
+        """
+        px = np.asarray(pixels, dtype=np.float64).reshape(-1, 3)
+        lab = np.asarray(labels).reshape(-1)
+        if lab.shape[0] != px.shape[0]:
+            raise ConfigError(f"{px.shape[0]} pixels but {lab.shape[0]} labels")
+        means = np.zeros((NUM_COLORS, 3))
+        covs = np.zeros((NUM_COLORS, 3, 3))
+        for k in range(NUM_COLORS):
+            sel = px[lab == k]
+            if sel.shape[0] < min_pixels:
+                raise ConfigError(
+                    f"color {SHIRT_COLORS[k].name!r} has {sel.shape[0]} labeled pixels, "
+                    f"need at least {min_pixels}; label more of that patch"
+                )
+            means[k] = sel.mean(axis=0)
+            covs[k] = np.cov(sel, rowvar=False) + _RIDGE * np.eye(3)
+        return cls(means, covs)
+
+    # ---- derived -----------------------------------------------------------------
+    @cached_property
+    def _linv(self) -> NDArray[np.float32]:
+        L = np.linalg.cholesky(self.covariances)
+        return np.linalg.inv(L).astype(np.float32)
+
+    @cached_property
+    def _means32(self) -> NDArray[np.float32]:
+        return self.means.astype(np.float32)
+
+    def mahalanobis(self, pixels: ArrayLike) -> NDArray[np.float64]:
+        """(N, 3) RGB (already white-balanced) -> (N, 10) Mahalanobis distances."""
+        px = np.asarray(pixels, dtype=np.float64).reshape(-1, 3)
+        d = px[:, None, :] - self.means[None]
+        z = np.einsum("kij,nkj->nki", self._linv.astype(np.float64), d)
+        return np.sqrt(np.sum(z * z, axis=-1))
+
+    def classify(
+        self,
+        image: NDArray[np.uint8],
+        white_balance: ArrayLike | None = None,
+        threshold: float = 3.0,
+        mask: NDArray[np.bool_] | None = None,
+        penalty: NDArray[np.float32] | None = None,
+    ) -> Classification:
+        """Classify an RGB image into a color id map.
+
+        ``white_balance`` is the 3x3 ``W`` applied to each pixel first (identity when
+        None); ``mask`` restricts classification to foreground pixels (the paper's
+        background-subtraction mask); ``penalty`` (H, W, 10) is added to each color's
+        distance before the arg-min and the threshold (the pose prior ``C d``).
+        """
+        img = np.ascontiguousarray(image)
+        if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
+            raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
+        W = np.eye(3, dtype=np.float32) if white_balance is None else np.asarray(
+            white_balance, dtype=np.float32
+        )
+        if W.shape != (3, 3):
+            raise ConfigError(f"white balance must be 3x3, got {W.shape}")
+        h, w = img.shape[:2]
+        use_mask = mask is not None
+        m = np.ascontiguousarray(mask, dtype=np.bool_) if mask is not None else np.ones(
+            (1, 1), np.bool_
+        )
+        if use_mask and m.shape != (h, w):
+            raise ConfigError(f"mask shape {m.shape} does not match image {(h, w)}")
+        use_pen = penalty is not None
+        pen = np.ascontiguousarray(penalty, dtype=np.float32) if penalty is not None else np.zeros(
+            (1, 1, NUM_COLORS), np.float32
+        )
+        if use_pen and pen.shape != (h, w, NUM_COLORS):
+            raise ConfigError(f"penalty must be {(h, w, NUM_COLORS)}, got {pen.shape}")
+        ids, best = _classify_kernel(
+            img, W, self._means32, self._linv, float(threshold), m, use_mask, pen, use_pen
+        )
+        return Classification(ids, best)
+
+    # ---- persistence ---------------------------------------------------------------
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready form: color names, means and covariances."""
+        return {
+            "colors": [c.name for c in SHIRT_COLORS],
+            "means": np.round(self.means, 4).tolist(),
+            "covariances": np.round(self.covariances, 4).tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict[str, object], where: str = "color model") -> ColorModel:
+        """Read :meth:`to_dict` output, naming the source in errors."""
+        try:
+            return cls(np.asarray(data["means"], float), np.asarray(data["covariances"], float))
+        except KeyError as exc:
+            raise ConfigError(f"{where}: missing key {exc.args[0]!r}") from None
+
+    def save(self, path: str | Path) -> Path:
+        """Write the model as JSON."""
+        p = Path(path)
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(json.dumps(self.to_dict(), indent=1))
+        return p
+
+    @classmethod
+    def load(cls, path: str | Path) -> ColorModel:
+        """Read a model written by :meth:`save`."""
+        p = Path(path)
+        if not p.exists():
+            raise ConfigError(f"{p}: no such color model; run `bodyplay colors fit` to make one")
+        try:
+            data = json.loads(p.read_text())
+        except json.JSONDecodeError as exc:
+            raise ConfigError(f"{p}: not valid JSON ({exc.msg})") from None
+        return cls.from_dict(data, where=str(p))
+
+
+def srgb_color_model(noise: float = 12.0, shading: float = 0.18) -> ColorModel:
+    """A model from the nominal sRGB fabric colors.
+
+    Each covariance is isotropic sensor noise (``noise`` std, RGB units) plus an
+    elongation along the mean color (``shading`` relative std), since shading mostly
+    scales a patch's color.
+    """
+    means = np.array([c.rgb for c in SHIRT_COLORS], dtype=np.float64)
+    covs = np.empty((NUM_COLORS, 3, 3))
+    for k, mu in enumerate(means):
+        covs[k] = noise**2 * np.eye(3) + shading**2 * np.outer(mu, mu)
+    return ColorModel(means, covs)
+
+
+def default_color_model() -> ColorModel:
+    """The shipped model (fitted to id-map-labeled synthetic renders), else the sRGB one."""
+    res = resources.files("bodyplay").joinpath("assets", "colorshirt", DEFAULT_MODEL_RESOURCE)
+    if res.is_file():
+        return ColorModel.from_dict(json.loads(res.read_text()), where=str(res))
+    return srgb_color_model()

@@ -1,0 +1,476 @@
+"""The pose database: tiny id maps of rendered poses, nearest-neighbour search, blending.
+
+Step 2 of the paper looks the classified shirt up in a database of rendered
+upper-body poses (80,000 in the paper) as 40x40 color id maps, takes the ten
+nearest neighbours under the per-pixel mismatch distance and blends their poses.
+
+Poses come from :func:`bodyplay.motion.sample_poses` and get a random orientation
+broadly facing a *canonical camera* (yaw +-75 degrees, some lean and roll). Each
+is skinned with the generic body mesh and rasterized in the bounding box of its
+shirt vertices, normalized into a square 40x40 crop exactly as
+:func:`bodyplay.render.idmap.crop_transform` does; the crop scale and the root's
+crop position and depth are kept so a blended pose can be placed in any camera.
+
+Search: exact mismatch over 80,000 maps of 1,600 pixels is too slow per frame,
+so every map is also stored as a short feature (one-hot colors averaged over 4x4
+blocks, projected on 64 principal components); a matrix-vector product ranks all
+poses by feature distance and the best ``candidates`` are re-ranked by the exact
+mismatch. Databases are cached on disk keyed by a hash of everything that shapes
+them, and rebuilt when any of it changes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from functools import cached_property
+from pathlib import Path
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.mesh import body_mesh
+from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
+from bodyplay.body.shirt import NUM_COLORS, patch_color_index
+from bodyplay.body.skeleton import NODE_NAMES, Skeleton
+from bodyplay.body.skinning import SkinnedMesh
+from bodyplay.capture.camera import Camera, look_at
+from bodyplay.errors import ConfigError
+from bodyplay.render.idmap import rasterize_ids
+
+__all__ = [
+    "DatabaseOptions",
+    "PoseDatabase",
+    "Neighbours",
+    "BlendedPose",
+    "canonical_camera",
+    "sample_database_poses",
+    "build_database",
+    "load_or_build_database",
+    "default_cache_dir",
+    "shirt_color_face_ids",
+    "mismatch",
+    "blend_poses",
+    "render_normalized",
+]
+
+_FORMAT_VERSION = 4
+_POOL = 4  # feature pooling block (40x40 -> 10x10)
+
+
+@dataclass(frozen=True)
+class DatabaseOptions:
+    """What the database holds and how it is searched.
+
+    ``size`` poses (the paper uses 80,000); ``map_size`` the side of the id maps;
+    ``yaw_deg`` the range of orientations relative to the
+    canonical camera (``tilt_deg`` the largest lean); ``pca_dims`` and ``candidates``
+    the coarse search;
+    ``neighbours`` how many are blended; ``margin`` the crop margin.
+    """
+
+    size: int = 20_000
+    map_size: int = 40
+    seed: int = 0
+    yaw_deg: float = 80.0
+    tilt_deg: float = 12.0
+    pca_dims: int = 64
+    candidates: int = 128
+    neighbours: int = 10
+    margin: float = 0.05
+
+    def __post_init__(self) -> None:
+        if self.size < 20:
+            raise ConfigError("the pose database needs at least 20 poses")
+        if self.map_size % _POOL or self.map_size < 8:
+            raise ConfigError(f"map_size must be a multiple of {_POOL} and at least 8")
+        if not 1 <= self.neighbours <= self.candidates:
+            raise ConfigError("neighbours must be between 1 and candidates")
+        if self.pca_dims < 4:
+            raise ConfigError("pca_dims must be at least 4")
+
+    def cache_key(self, skeleton: Skeleton, mesh: SkinnedMesh, sampler: str) -> str:
+        """Hash of the options, skeleton, mesh and pose sampler: the cache file's name."""
+        h = hashlib.sha1()
+        h.update(repr((_FORMAT_VERSION, sorted(asdict(self).items()), sampler)).encode())
+        h.update(np.ascontiguousarray(skeleton.offsets, np.float64).tobytes())
+        for arr in (mesh.rest_vertices, mesh.faces, mesh.face_part, mesh.bone_weights,
+                    mesh.bone_indices):
+            h.update(np.ascontiguousarray(arr).tobytes())
+        return h.hexdigest()[:16]
+
+
+def canonical_camera() -> Camera:
+    """The camera database poses are rendered from: 640x480, 60 degrees, 3 m away."""
+    R, t = look_at((0.0, 1.25, 3.0), (0.0, 1.25, 0.0))
+    return Camera.from_fov("canonical", 640, 480, 60.0, R, t)
+
+
+def default_cache_dir() -> Path:
+    """``$BODYPLAY_CACHE`` or ``~/.cache/bodyplay``."""
+    env = os.environ.get("BODYPLAY_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "bodyplay"
+
+
+def shirt_color_face_ids(mesh: SkinnedMesh) -> NDArray[np.uint8]:
+    """(F,) color id (color index + 1) of each shirt face, 0 for other faces."""
+    cidx = patch_color_index()
+    fp = mesh.face_part.astype(np.int64)
+    return np.where(fp > 0, cidx[fp] + 1, 0).astype(np.uint8)
+
+
+def shirt_vertex_mask(mesh: SkinnedMesh) -> NDArray[np.bool_]:
+    """(V,) whether each vertex belongs to a shirt face."""
+    m = np.zeros(mesh.num_vertices, bool)
+    m[mesh.faces[mesh.face_part > 0].ravel()] = True
+    return m
+
+
+def sample_database_poses(
+    skeleton: Skeleton, n: int, rng: np.random.Generator, options: DatabaseOptions
+) -> NDArray[np.float64]:
+    """``n`` upper-body poses from :func:`bodyplay.motion.sample_poses`, facing the camera.
+
+    Mixed clip frames (the built-in CMU clips), random upper bodies and blends, with
+    yaw within ``options.yaw_deg`` of facing the canonical camera and a small tilt;
+    drawn without thinning (farthest-point thinning costs minutes at 80,000).
+    """
+    from bodyplay.motion import list_builtin_clips, sample_poses
+
+    yaw = float(np.radians(options.yaw_deg))
+    q = np.array(
+        sample_poses(
+            skeleton, n, rng, mode="mixed" if list_builtin_clips() else "upper_body",
+            yaw_range=(-yaw, yaw), max_tilt=float(np.radians(options.tilt_deg)),
+            oversample=1.0,
+        ),
+        dtype=np.float64,
+    )
+    if q.shape != (n, skeleton.pose_dim):
+        raise ConfigError(f"sample_poses returned {q.shape}, expected {(n, skeleton.pose_dim)}")
+    return q
+
+
+@numba.njit(cache=True, parallel=True)
+def _project_crops(  # pragma: no cover - compiled
+    verts: NDArray[np.float32],
+    R: NDArray[np.float64],
+    t: NDArray[np.float64],
+    K: NDArray[np.float64],
+    vmask: NDArray[np.bool_],
+    size: int,
+    margin: float,
+) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64]]:
+    """Pinhole projection and the crop normalization of ``crop_transform`` in one pass."""
+    B, V = verts.shape[0], verts.shape[1]
+    uvz = np.empty((B, V, 3), np.float32)
+    scale = np.ones(B)
+    offset = np.zeros((B, 2))
+    for b in numba.prange(B):
+        lo0 = np.inf
+        lo1 = np.inf
+        hi0 = -np.inf
+        hi1 = -np.inf
+        for v in range(V):
+            x = verts[b, v, 0]
+            y = verts[b, v, 1]
+            z = verts[b, v, 2]
+            cx = R[0, 0] * x + R[0, 1] * y + R[0, 2] * z + t[0]
+            cy = R[1, 0] * x + R[1, 1] * y + R[1, 2] * z + t[1]
+            cz = R[2, 0] * x + R[2, 1] * y + R[2, 2] * z + t[2]
+            u = K[0, 0] * cx / cz + K[0, 1] * cy / cz + K[0, 2]
+            w = K[1, 1] * cy / cz + K[1, 2]
+            uvz[b, v, 0] = u
+            uvz[b, v, 1] = w
+            uvz[b, v, 2] = cz
+            if vmask[v] and cz > 1e-9:
+                lo0 = min(lo0, u)
+                hi0 = max(hi0, u)
+                lo1 = min(lo1, w)
+                hi1 = max(hi1, w)
+        if lo0 < hi0 or lo1 < hi1:
+            extent = max(max(hi0 - lo0, hi1 - lo1), 1e-6)
+            s = size * (1.0 - 2.0 * margin) / extent
+            o0 = (size - 1) / 2.0 - 0.5 * (lo0 + hi0) * s
+            o1 = (size - 1) / 2.0 - 0.5 * (lo1 + hi1) * s
+            scale[b] = s
+            offset[b, 0] = o0
+            offset[b, 1] = o1
+            for v in range(V):
+                uvz[b, v, 0] = uvz[b, v, 0] * s + o0
+                uvz[b, v, 1] = uvz[b, v, 1] * s + o1
+    return uvz, scale, offset
+
+
+@numba.njit(cache=True, parallel=True)
+def _pooled_onehot(  # pragma: no cover - compiled
+    ids: NDArray[np.uint8], pool: int, ncls: int
+) -> NDArray[np.float32]:
+    B, S = ids.shape[0], ids.shape[1]
+    g = S // pool
+    out = np.zeros((B, g, g, ncls), np.float32)
+    inv = np.float32(1.0 / (pool * pool))
+    for b in numba.prange(B):
+        for y in range(S):
+            for x in range(S):
+                out[b, y // pool, x // pool, ids[b, y, x]] += inv
+    return out.reshape(B, g * g * ncls)
+
+
+@numba.njit(cache=True, nogil=True)
+def _pooled_onehot_one(  # pragma: no cover - compiled
+    ids: NDArray[np.uint8], pool: int, ncls: int
+) -> NDArray[np.float32]:
+    S = ids.shape[0]
+    g = S // pool
+    out = np.zeros((g, g, ncls), np.float32)
+    inv = np.float32(1.0 / (pool * pool))
+    for y in range(S):
+        for x in range(S):
+            out[y // pool, x // pool, ids[y, x]] += inv
+    return out.reshape(g * g * ncls)
+
+
+def _features(ids: NDArray[np.uint8]) -> NDArray[np.float32]:
+    """(B, S, S) color id maps -> (B, (S/4)^2 * 11) pooled one-hot features."""
+    return _pooled_onehot(np.ascontiguousarray(ids, np.uint8), _POOL, NUM_COLORS + 1)
+
+
+def mismatch(a: NDArray[np.uint8], b: NDArray[np.uint8]) -> NDArray[np.int64]:
+    """Per-pixel mismatch count between id maps (broadcasting over leading axes)."""
+    return np.count_nonzero(a != b, axis=(-2, -1))
+
+
+def blend_poses(poses: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Weighted blend of pose vectors: roots averaged, every node rotation averaged on SO(3).
+
+    The weighted mean of the rotation matrices is projected back onto SO(3) (SVD),
+    which stays sensible for the spread of a few nearest neighbours.
+    """
+    w = np.asarray(weights, dtype=np.float64)
+    w = w / w.sum()
+    q = np.asarray(poses, dtype=np.float64)
+    n = len(NODE_NAMES)
+    R = rotvec_to_matrix(q[:, 3:].reshape(-1, n, 3))
+    M = np.einsum("b,bnij->nij", w, R)
+    U, _, Vt = np.linalg.svd(M)
+    D = np.ones((n, 3))
+    D[:, 2] = np.sign(np.linalg.det(U @ Vt))
+    Rm = np.einsum("nij,nj,njk->nik", U, D, Vt)
+    out = q[0].copy()
+    out[0:3] = w @ q[:, 0:3]
+    out[3:] = matrix_to_rotvec(Rm).reshape(-1)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Neighbours:
+    """The nearest database entries of a query: indices and mismatch fractions."""
+
+    index: NDArray[np.int64]
+    distance: NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class BlendedPose:
+    """A weighted blend of neighbours, relative to the canonical camera.
+
+    ``pose`` has the canonical root and orientation; ``root_crop`` is where the root
+    projects in the normalized crop, ``root_depth`` its depth and ``crop_scale`` the
+    crop pixels per canonical image pixel, all blended.
+    """
+
+    pose: NDArray[np.float64]
+    root_crop: NDArray[np.float64]
+    root_depth: float
+    crop_scale: float
+    distance: float
+
+
+@dataclass(frozen=True, eq=False)
+class PoseDatabase:
+    """Rendered poses and their search structure (see the module docstring)."""
+
+    options: DatabaseOptions
+    poses: NDArray[np.float32]
+    ids: NDArray[np.uint8]
+    root_crop: NDArray[np.float32]
+    root_depth: NDArray[np.float32]
+    crop_scale: NDArray[np.float32]
+    pca_mean: NDArray[np.float32]
+    pca_basis: NDArray[np.float32]
+    features: NDArray[np.float32]
+
+    def __len__(self) -> int:
+        return int(self.poses.shape[0])
+
+    @cached_property
+    def _feature_norms(self) -> NDArray[np.float32]:
+        return np.einsum("nd,nd->n", self.features, self.features)
+
+    def query_features(self, idmap: NDArray[np.uint8]) -> NDArray[np.float32]:
+        """Project one id map onto the principal components."""
+        f = _pooled_onehot_one(np.ascontiguousarray(idmap, np.uint8), _POOL,
+                               NUM_COLORS + 1) - self.pca_mean
+        return (self.pca_basis @ f).astype(np.float32)
+
+    def query(self, idmap: NDArray[np.uint8], k: int | None = None,
+              exact: bool = False) -> Neighbours:
+        """The ``k`` nearest maps (default ``options.neighbours``) by pixel mismatch.
+
+        ``exact`` scans every map (slow; for measuring the coarse search's recall).
+        """
+        o = self.options
+        k = o.neighbours if k is None else k
+        if idmap.shape != (o.map_size, o.map_size):
+            raise ConfigError(f"query id map must be {o.map_size}x{o.map_size}")
+        if exact:
+            cand = np.arange(len(self))
+        else:
+            f = self.query_features(idmap)
+            d = self._feature_norms - 2.0 * (self.features @ f)
+            m = min(o.candidates, len(self) - 1)
+            cand = np.argpartition(d, m)[:m]
+        mis = mismatch(self.ids[cand], idmap[None])
+        order = np.argsort(mis, kind="stable")[:k]
+        return Neighbours(cand[order].astype(np.int64),
+                          mis[order].astype(np.float64) / float(idmap.size))
+
+    def blend(self, nb: Neighbours) -> BlendedPose:
+        """Inverse-distance blend of the neighbours' poses (rotations averaged on SO(3))."""
+        w = 1.0 / (nb.distance + 0.02)
+        w = w / w.sum()
+        return BlendedPose(
+            blend_poses(self.poses[nb.index].astype(np.float64), w),
+            w @ self.root_crop[nb.index].astype(np.float64),
+            float(w @ self.root_depth[nb.index]),
+            float(w @ self.crop_scale[nb.index]),
+            float(nb.distance[0]),
+        )
+
+    # ---- persistence --------------------------------------------------------------
+    def save(self, path: Path) -> Path:
+        """Write as a compressed ``.npz``."""
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".tmp.npz")
+        np.savez_compressed(
+            tmp, poses=self.poses, ids=self.ids, root_crop=self.root_crop,
+            root_depth=self.root_depth, crop_scale=self.crop_scale, pca_mean=self.pca_mean,
+            pca_basis=self.pca_basis,
+        )
+        tmp.replace(path)
+        return path
+
+    @classmethod
+    def load(cls, path: Path, options: DatabaseOptions) -> PoseDatabase:
+        """Read a database written by :meth:`save` (features are recomputed)."""
+        with np.load(path) as z:
+            data = {k: z[k] for k in z.files}
+        ids = data["ids"]
+        feats = (_features(ids) - data["pca_mean"]) @ data["pca_basis"].T
+        return cls(options, data["poses"], ids, data["root_crop"], data["root_depth"],
+                   data["crop_scale"], data["pca_mean"], data["pca_basis"],
+                   np.ascontiguousarray(feats, np.float32))
+
+
+def render_normalized(
+    skeleton: Skeleton, poses: NDArray[np.float64], camera: Camera, options: DatabaseOptions
+) -> NDArray[np.uint8]:
+    """(B, S, S) color id maps of world poses seen by ``camera``, normalized like the database."""
+    mesh = body_mesh(skeleton)
+    verts = mesh.pose(skeleton, np.atleast_2d(poses))
+    S = options.map_size
+    uvz, _, _ = _project_crops(verts, camera.R, camera.t, camera.K, shirt_vertex_mask(mesh), S,
+                               options.margin)
+    out = rasterize_ids(uvz, mesh.faces, shirt_color_face_ids(mesh), S, S)
+    assert isinstance(out, np.ndarray)
+    return out
+
+
+def build_database(
+    skeleton: Skeleton,
+    options: DatabaseOptions,
+    poses: NDArray[np.float64] | None = None,
+    progress: bool = False,
+    chunk: int = 2000,
+) -> PoseDatabase:
+    """Render the database: ``poses`` (default :func:`sample_database_poses`) as id maps."""
+    from tqdm import tqdm
+
+    mesh = body_mesh(skeleton)
+    if poses is None:
+        poses = sample_database_poses(skeleton, options.size, np.random.default_rng(options.seed),
+                                      options)
+    poses = np.asarray(poses, dtype=np.float64)
+    n = poses.shape[0]
+    cam = canonical_camera()
+    face_ids = shirt_color_face_ids(mesh)
+    vmask = shirt_vertex_mask(mesh)
+    S = options.map_size
+    ids = np.zeros((n, S, S), np.uint8)
+    root_crop = np.zeros((n, 2), np.float32)
+    root_depth = np.zeros(n, np.float32)
+    crop_scale = np.zeros(n, np.float32)
+    bar = tqdm(total=n, desc="rendering pose database", unit="pose", disable=not progress)
+    for s in range(0, n, chunk):
+        q = poses[s : s + chunk]
+        verts = mesh.pose(skeleton, q)
+        uvz, scale, offset = _project_crops(verts, cam.R, cam.t, cam.K, vmask, S,
+                                            options.margin)
+        out = rasterize_ids(uvz, mesh.faces, face_ids, S, S)
+        ids[s : s + len(q)] = out
+        root_px = cam.project(q[:, 0:3])
+        root_crop[s : s + len(q)] = root_px * scale[:, None] + offset
+        root_depth[s : s + len(q)] = cam.world_to_camera(q[:, 0:3])[:, 2]
+        crop_scale[s : s + len(q)] = scale
+        bar.update(len(q))
+    bar.close()
+    feats = _features(ids)
+    rng = np.random.default_rng(options.seed + 1)
+    sub = feats[rng.choice(n, size=min(n, 8000), replace=False)]
+    mean = sub.mean(axis=0)
+    _, _, Vt = np.linalg.svd(sub - mean, full_matrices=False)
+    basis = Vt[: options.pca_dims].astype(np.float32)
+    proj = ((feats - mean) @ basis.T).astype(np.float32)
+    return PoseDatabase(options, poses.astype(np.float32), ids, root_crop, root_depth, crop_scale,
+                        mean.astype(np.float32), basis, np.ascontiguousarray(proj))
+
+
+def load_or_build_database(
+    skeleton: Skeleton,
+    options: DatabaseOptions,
+    cache_dir: Path | None = None,
+    progress: bool = False,
+    pose_source: Callable[[Skeleton, int, np.random.Generator, DatabaseOptions],
+                          NDArray[np.float64]] | None = None,
+) -> PoseDatabase:
+    """The cached database for these inputs, building (and caching) it when missing."""
+    sampler = pose_source or sample_database_poses
+    mesh = body_mesh(skeleton)
+    name = f"{getattr(sampler, '__module__', '')}.{getattr(sampler, '__qualname__', 'poses')}"
+    key = options.cache_key(skeleton, mesh, name)
+    folder = cache_dir or default_cache_dir()
+    path = folder / f"colorshirt_db_{options.size}_{key}.npz"
+    if path.exists():
+        try:
+            return PoseDatabase.load(path, options)
+        except (OSError, ValueError, KeyError):
+            path.unlink(missing_ok=True)  # a damaged cache file is rebuilt
+    poses = sampler(skeleton, options.size, np.random.default_rng(options.seed), options)
+    db = build_database(skeleton, options, poses, progress=progress)
+    try:
+        db.save(path)
+    except OSError as exc:
+        raise ConfigError(f"cannot write the pose database cache {path}: {exc}; "
+                          "pass a writable --cache folder") from None
+    return db
+
+
+def database_memory_mb(n: int, options: DatabaseOptions) -> float:
+    """Approximate resident size of a database of ``n`` poses, in MB."""
+    per = options.map_size**2 + 4 * (options.pca_dims + 75 + 4)
+    return n * per / 1e6 + math.ceil(n / 1e6)

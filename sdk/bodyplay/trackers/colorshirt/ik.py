@@ -1,0 +1,448 @@
+"""Fitting the skeleton to patch centroids: 6-DOF global pose and upper-body IK.
+
+Steps 2 and 4 of the paper move the skeleton so that the rendered patch centroids
+land on the classified ones in every camera. Rendering inside the optimizer would
+be slow, so each visible patch becomes a *patch anchor*: the 3-D point (found by
+back-projecting the rendered patch centroid at its mean depth) rigidly attached to
+the bone the patch covers. Moving the skeleton moves the anchors; their pinhole
+projections are compared with the image centroids.
+
+The objective is the paper's ``sum ||c(q) - c||^2_Sigma_c + ||q - q_b||^2_Sigma_b +
+||q - q_h||^2_Sigma_p``, with diagonal covariances trained on synthetic ground truth
+(:class:`PriorModel`). The pelvis orientation is optimized as a small rotation
+applied to the starting orientation, so rotation vectors never meet their
+singularity at 180 degrees. Forward kinematics and projection of a whole batch of
+perturbed poses run in one numba call, which gives the finite-difference Jacobian
+for scipy's ``least_squares`` in one call.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+
+from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
+from bodyplay.body.skeleton import NODE_NAMES, NODE_PARENTS, Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.errors import ConfigError
+
+__all__ = [
+    "IK_NODES",
+    "GLOBAL_DOFS",
+    "ik_dofs",
+    "PatchAnchors",
+    "PriorModel",
+    "KinematicSolver",
+    "default_prior_model",
+]
+
+IK_NODES: tuple[str, ...] = (
+    "pelvis", "lumbar", "thorax", "neck",
+    "l_clavicle", "l_shoulder", "l_elbow",
+    "r_clavicle", "r_shoulder", "r_elbow",
+)
+"""Nodes whose rotations IK adjusts (they move the shirt); the rest keep the blend."""
+
+GLOBAL_DOFS: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
+"""Root position and pelvis orientation in the pose vector."""
+
+
+def ik_dofs() -> NDArray[np.int64]:
+    """Indices into the pose vector of the IK's free parameters (root + IK_NODES)."""
+    idx = [0, 1, 2]
+    for name in IK_NODES:
+        i = 3 + 3 * NODE_NAMES.index(name)
+        idx += [i, i + 1, i + 2]
+    return np.asarray(idx, dtype=np.int64)
+
+
+@numba.njit(cache=True, nogil=True)
+def _rodrigues(rx: float, ry: float, rz: float) -> NDArray[np.float64]:  # pragma: no cover
+    th = np.sqrt(rx * rx + ry * ry + rz * rz)
+    R = np.eye(3)
+    if th < 1e-10:
+        R[0, 1] = -rz
+        R[0, 2] = ry
+        R[1, 0] = rz
+        R[1, 2] = -rx
+        R[2, 0] = -ry
+        R[2, 1] = rx
+        return R
+    kx, ky, kz = rx / th, ry / th, rz / th
+    s = np.sin(th)
+    c = 1.0 - np.cos(th)
+    R[0, 0] = 1.0 - c * (ky * ky + kz * kz)
+    R[0, 1] = -s * kz + c * kx * ky
+    R[0, 2] = s * ky + c * kx * kz
+    R[1, 0] = s * kz + c * kx * ky
+    R[1, 1] = 1.0 - c * (kx * kx + kz * kz)
+    R[1, 2] = -s * kx + c * ky * kz
+    R[2, 0] = -s * ky + c * kx * kz
+    R[2, 1] = s * kx + c * ky * kz
+    R[2, 2] = 1.0 - c * (kx * kx + ky * ky)
+    return R
+
+
+@numba.njit(cache=True, nogil=True)
+def _fk(  # pragma: no cover - compiled
+    q: NDArray[np.float64],
+    R0: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    parents: NDArray[np.int64],
+    upto: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Node rotations and positions for nodes 0..upto-1; root rotation is R0 exp(q[3:6])."""
+    rot = np.empty((upto, 3, 3))
+    pos = np.empty((upto, 3))
+    for i in range(upto):
+        Rl = _rodrigues(q[3 + 3 * i], q[4 + 3 * i], q[5 + 3 * i])
+        p = parents[i]
+        if p < 0:
+            rot[i] = R0 @ Rl
+            pos[i, 0] = q[0]
+            pos[i, 1] = q[1]
+            pos[i, 2] = q[2]
+        else:
+            rot[i] = rot[p] @ Rl
+            for r in range(3):
+                pos[i, r] = pos[p, r] + (
+                    rot[p, r, 0] * offsets[i, 0]
+                    + rot[p, r, 1] * offsets[i, 1]
+                    + rot[p, r, 2] * offsets[i, 2]
+                )
+    return rot, pos
+
+
+@numba.njit(cache=True, nogil=True)
+def _project_anchors(  # pragma: no cover - compiled
+    Q: NDArray[np.float64],
+    R0: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    parents: NDArray[np.int64],
+    upto: int,
+    a_node: NDArray[np.int64],
+    a_local: NDArray[np.float64],
+    a_cam: NDArray[np.int64],
+    Ks: NDArray[np.float64],
+    Rs: NDArray[np.float64],
+    ts: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    P = Q.shape[0]
+    A = a_node.shape[0]
+    out = np.empty((P, A, 2))
+    for b in range(P):
+        rot, pos = _fk(Q[b], R0, offsets, parents, upto)
+        for a in range(A):
+            n = a_node[a]
+            w = np.empty(3)
+            for r in range(3):
+                w[r] = pos[n, r] + (
+                    rot[n, r, 0] * a_local[a, 0]
+                    + rot[n, r, 1] * a_local[a, 1]
+                    + rot[n, r, 2] * a_local[a, 2]
+                )
+            c = a_cam[a]
+            x = Rs[c, 0, 0] * w[0] + Rs[c, 0, 1] * w[1] + Rs[c, 0, 2] * w[2] + ts[c, 0]
+            y = Rs[c, 1, 0] * w[0] + Rs[c, 1, 1] * w[1] + Rs[c, 1, 2] * w[2] + ts[c, 1]
+            z = Rs[c, 2, 0] * w[0] + Rs[c, 2, 1] * w[1] + Rs[c, 2, 2] * w[2] + ts[c, 2]
+            z = max(z, 1e-3)
+            out[b, a, 0] = Ks[c, 0, 0] * x / z + Ks[c, 0, 1] * y / z + Ks[c, 0, 2]
+            out[b, a, 1] = Ks[c, 1, 1] * y / z + Ks[c, 1, 2]
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class PatchAnchors:
+    """Points attached to bones whose projections should hit observed centroids.
+
+    ``node`` (A,) skeleton node of each anchor, ``local`` (A, 3) its position in that
+    node's frame, ``camera`` (A,) camera index, ``target`` (A, 2) observed pixel
+    centroid, ``sigma`` (A,) pixel standard deviation of the constraint,
+    ``patch`` (A,) patch id (for reporting).
+    """
+
+    node: NDArray[np.int64]
+    local: NDArray[np.float64]
+    camera: NDArray[np.int64]
+    target: NDArray[np.float64]
+    sigma: NDArray[np.float64]
+    patch: NDArray[np.int64]
+
+    def __len__(self) -> int:
+        return int(self.node.shape[0])
+
+
+@dataclass(frozen=True)
+class PriorModel:
+    """Diagonal covariances of the IK energy, trained on synthetic ground truth.
+
+    ``centroid`` is the std of a centroid constraint as a fraction of the shirt's
+    size in the image; ``blend`` and ``previous`` are per-free-DOF stds (metres for
+    the root, radians for rotations) of ``q - q_b`` and ``q - q_h``.
+    """
+
+    centroid: float
+    blend: tuple[float, ...]
+    previous: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        n = len(ik_dofs())
+        if len(self.blend) != n or len(self.previous) != n:
+            raise ConfigError(f"prior model needs {n} blend and previous stds")
+        if self.centroid <= 0 or min(self.blend) <= 0 or min(self.previous) <= 0:
+            raise ConfigError("prior model stds must be positive")
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready form."""
+        return {"centroid": self.centroid, "blend": list(self.blend),
+                "previous": list(self.previous)}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, object]) -> PriorModel:
+        """Inverse of :meth:`to_dict`."""
+        return cls(float(data["centroid"]),  # type: ignore[arg-type]
+                   tuple(float(v) for v in data["blend"]),  # type: ignore[attr-defined]
+                   tuple(float(v) for v in data["previous"]))  # type: ignore[attr-defined]
+
+    def save(self, path: str | Path) -> Path:
+        """Write as JSON."""
+        p = Path(path)
+        p.write_text(json.dumps(self.to_dict(), indent=1))
+        return p
+
+    @classmethod
+    def fit(
+        cls,
+        truth: NDArray[np.float64],
+        blended: NDArray[np.float64],
+        centroid_errors: NDArray[np.float64],
+        floor: float = 0.01,
+        previous: NDArray[np.float64] | None = None,
+    ) -> PriorModel:
+        """Train the covariances as the paper does, from a ground-truth sequence.
+
+        ``truth`` and ``blended`` are (T, pose_dim) true and database-blended poses
+        (rows of NaN separate sequences), ``centroid_errors`` the centroid residuals at
+        the true pose (relative units). Orientation differences are measured as the
+        rotation between the two pelvis orientations. ``previous`` (T, pose_dim), the
+        tracker's estimates, makes the previous-pose term ``truth(t) - previous(t-1)``
+        (default: the truth itself, the paper's literal recipe).
+        """
+        dofs = ik_dofs()
+
+        def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+            ok = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
+            a, b = a[ok], b[ok]
+            d = a - b
+            Ra = rotvec_to_matrix(a[:, 3:6])
+            Rb = rotvec_to_matrix(b[:, 3:6])
+            d[:, 3:6] = matrix_to_rotvec(np.einsum("nji,njk->nik", Rb, Ra))
+            return d[:, dofs]
+
+        d_b = diff(truth, blended)
+        prev = truth if previous is None else previous
+        d_p = diff(truth[1:], prev[:-1])
+        c = np.asarray(centroid_errors, dtype=np.float64)
+        return cls(
+            float(max(np.sqrt(np.mean(c**2)), 1e-3)),
+            tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_b**2, axis=0))),
+            tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_p**2, axis=0))),
+        )
+
+
+def default_prior_model() -> PriorModel:
+    """The shipped trained priors, or hand-set ones when none are installed."""
+    res = resources.files("bodyplay").joinpath("assets", "colorshirt", "ik_prior.json")
+    if res.is_file():
+        return PriorModel.from_dict(json.loads(res.read_text()))
+    n = len(ik_dofs())
+    blend = [0.05] * 3 + [0.15] * 3 + [0.35] * (n - 6)
+    prev = [0.05] * 3 + [0.1] * 3 + [0.3] * (n - 6)
+    return PriorModel(0.02, tuple(blend), tuple(prev))
+
+
+@dataclass
+class _Problem:
+    q_template: NDArray[np.float64]
+    R0: NDArray[np.float64]
+    free: NDArray[np.int64]
+    anchors: PatchAnchors
+    prior_targets: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = field(
+        default_factory=list
+    )
+
+
+class KinematicSolver:
+    """Projects bone-attached anchors and solves 6-DOF and IK fits for one skeleton."""
+
+    def __init__(self, skeleton: Skeleton, cameras: tuple[Camera, ...]) -> None:
+        self.skeleton = skeleton
+        self.cameras = cameras
+        self._offsets = np.ascontiguousarray(skeleton.offsets, dtype=np.float64)
+        self._parents = np.asarray(NODE_PARENTS, dtype=np.int64)
+        # nodes up to and including the last upper-body node are enough for anchors
+        self._upto = NODE_NAMES.index("r_hand") + 1
+        self._Ks = np.stack([c.K for c in cameras]).astype(np.float64)
+        self._Rs = np.stack([c.R for c in cameras]).astype(np.float64)
+        self._ts = np.stack([c.t for c in cameras]).astype(np.float64)
+        self._free_ik = ik_dofs()
+        self._torso_nodes = np.array([NODE_NAMES.index(n) for n in ("lumbar", "thorax")])
+        lo, hi = skeleton.limits
+        self._lo, self._hi = lo, hi
+
+    # ---- anchors -----------------------------------------------------------------
+    def attach(
+        self, q: NDArray[np.float64], node: NDArray[np.int64], world: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Express world points (A, 3) in the frames of ``node`` (A,) at pose ``q``."""
+        G = self.skeleton.forward(q)
+        R = G[node, :3, :3]
+        p = G[node, :3, 3]
+        return np.einsum("aji,aj->ai", R, world - p)
+
+    def project(self, Q: NDArray[np.float64], anchors: PatchAnchors,
+                R0: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """(P, pose_dim) poses -> (P, A, 2) pixel projections of the anchors."""
+        return _project_anchors(
+            np.ascontiguousarray(np.atleast_2d(Q), dtype=np.float64),
+            np.eye(3) if R0 is None else R0,
+            self._offsets, self._parents, self._upto,
+            anchors.node, anchors.local, anchors.camera, self._Ks, self._Rs, self._ts,
+        )
+
+    # ---- solving -----------------------------------------------------------------
+    def _solve(self, pb: _Problem, max_nfev: int, limits: bool) -> NDArray[np.float64]:
+        """Levenberg-Marquardt on anchors + priors (+ joint limits as steep penalties).
+
+        MINPACK's LM is several times faster than the bounded trust-region solver
+        for these small problems; limits become residuals ``(q - hi) / 0.02`` beyond
+        the bounds and the result is clamped to them.
+        """
+        free = pb.free
+        a = pb.anchors
+        inv_sigma = 1.0 / a.sigma
+        q0 = pb.q_template
+        lo = self._lo[free].copy()
+        hi = self._hi[free].copy()
+        lo[:6] = -np.inf  # root position and the pelvis delta rotation are free
+        hi[:6] = np.inf
+        lim = np.isfinite(lo) & limits
+        x0 = np.clip(q0[free], lo, hi)
+        n_a = len(a)
+        n_x = len(free)
+        priors = pb.prior_targets
+        n_res = 2 * n_a + n_x * len(priors) + int(lim.sum())
+        if n_res < n_x:  # LM needs at least as many residuals as unknowns
+            return q0
+        inv_soft = 1.0 / 0.02
+        Qbuf = np.repeat(q0[None], n_x + 1, axis=0)
+
+        def fun(x: NDArray[np.float64]) -> NDArray[np.float64]:
+            Qbuf[0, free] = x
+            proj = self.project(Qbuf[:1], a, pb.R0)[0]
+            parts = [((proj - a.target) * inv_sigma[:, None]).ravel()]
+            for target, inv_std in priors:
+                parts.append((x - target) * inv_std)
+            if lim.any():
+                xl = x[lim]
+                parts.append((np.maximum(xl - hi[lim], 0.0) + np.minimum(xl - lo[lim], 0.0))
+                             * inv_soft)
+            return np.concatenate(parts)
+
+        eps = 1e-6
+
+        def jac(x: NDArray[np.float64]) -> NDArray[np.float64]:
+            Qbuf[:, free] = x
+            Qbuf[1:, free] += np.eye(n_x) * eps
+            proj = self.project(Qbuf, a, pb.R0)
+            d = (proj[1:] - proj[0][None]) / eps * inv_sigma[None, :, None]
+            J = [d.reshape(n_x, 2 * n_a).T]
+            for _, inv_std in priors:
+                J.append(np.diag(inv_std))
+            if lim.any():
+                xl = x[lim]
+                active = ((xl > hi[lim]) | (xl < lo[lim])) * inv_soft
+                Jl = np.zeros((int(lim.sum()), n_x))
+                Jl[np.arange(len(xl)), np.nonzero(lim)[0]] = active
+                J.append(Jl)
+            return np.concatenate(J, axis=0)
+
+        res = least_squares(fun, x0, jac=jac, method="lm", max_nfev=max_nfev)
+        q = q0.copy()
+        q[free] = np.clip(res.x, lo, hi)
+        return q
+
+    def _with_delta_root(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64],
+                                                                 NDArray[np.float64]]:
+        R0 = rotvec_to_matrix(q[3:6])
+        qd = q.copy()
+        qd[3:6] = 0.0
+        return qd, R0
+
+    @staticmethod
+    def _compose_root(q: NDArray[np.float64], R0: NDArray[np.float64]) -> NDArray[np.float64]:
+        out = q.copy()
+        out[3:6] = matrix_to_rotvec(R0 @ rotvec_to_matrix(q[3:6]))
+        return out
+
+    def solve_global(self, q: NDArray[np.float64], anchors: PatchAnchors,
+                     max_nfev: int = 10) -> NDArray[np.float64]:
+        """6-DOF fit: root position and pelvis orientation; the articulation is kept.
+
+        The blend's arms may be wrong, and a rigid fit would then twist the whole
+        body to shrink their error, so only torso anchors are used when at least
+        three are visible.
+        """
+        torso = np.isin(anchors.node, self._torso_nodes)
+        if int(torso.sum()) >= 3:
+            anchors = PatchAnchors(*(getattr(anchors, f)[torso] for f in
+                                     ("node", "local", "camera", "target", "sigma", "patch")))
+        if len(anchors) < 3:
+            return q
+        qd, R0 = self._with_delta_root(q)
+        free = np.asarray(GLOBAL_DOFS, dtype=np.int64)
+        # the database placement is a fair guess: stds 0.3 m and 0.3 rad
+        prior = [(qd[free].copy(), np.array([3.3, 3.3, 3.3, 3.3, 3.3, 3.3]))]
+        out = self._solve(_Problem(qd, R0, free, anchors, prior), max_nfev, limits=False)
+        return self._compose_root(out, R0)
+
+    def solve_ik(
+        self,
+        q_blend: NDArray[np.float64],
+        anchors: PatchAnchors,
+        prior: PriorModel | None,
+        q_prev: NDArray[np.float64] | None,
+        max_nfev: int = 10,
+        q_start: NDArray[np.float64] | None = None,
+    ) -> NDArray[np.float64]:
+        """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
+
+        Starts from ``q_start`` (default the blend). Without a prior model only a
+        weak regularizer towards the blend remains (the ablation of the paper's
+        comparison against its predecessor).
+        """
+        start = q_blend if q_start is None else q_start
+        qd, R0 = self._with_delta_root(start)
+        free = self._free_ik
+
+        def as_delta(q: NDArray[np.float64]) -> NDArray[np.float64]:
+            out = q[free].copy()
+            out[3:6] = matrix_to_rotvec(R0.T @ rotvec_to_matrix(q[3:6]))
+            return out
+
+        priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
+        if prior is not None:
+            priors.append((as_delta(q_blend), 1.0 / np.asarray(prior.blend)))
+            if q_prev is not None:
+                priors.append((as_delta(q_prev), 1.0 / np.asarray(prior.previous)))
+        else:
+            priors.append((as_delta(q_blend), np.full(len(free), 0.5)))
+        out = self._solve(_Problem(qd, R0, free, anchors, priors), max_nfev, limits=True)
+        return self._compose_root(out, R0)

@@ -1,0 +1,266 @@
+"""Finding the shirt: chrominance-histogram uniformity search (paper §4).
+
+The shirt is far more colorful than most of a scene, so its local chrominance
+histogram is nearly uniform. For every window of side ``s`` centred on a grid of
+stride 6 px, at six scales, the 100-bin histogram of ``(r, g) / (r + g + b)``
+(10 x 10 bins) gives the uniformity ``u = sum_i min(h_i, tau)`` with ``tau = 0.1``.
+The shirt's centre and scale are the average of all windows weighted by
+``exp(-(u - u_max)^2 / (u_max / 10)^2)``, which is steadier than the arg-max.
+
+Histograms are normalized by the window area, so pixels excluded by the
+background mask or too dark to have a chrominance count as nothing and windows
+much larger than the shirt lose uniformity. Everything runs in one numba pass:
+per-cell histograms on the stride grid, their integral, and the window sums.
+:class:`BackgroundMask` wraps OpenCV's MOG2 subtractor to provide that mask.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.errors import ConfigError
+
+__all__ = ["LocateOptions", "ShirtLocation", "ShirtLocator", "BackgroundMask", "chroma_bins"]
+
+BINS_PER_AXIS = 10
+NUM_BINS = BINS_PER_AXIS * BINS_PER_AXIS
+
+
+@dataclass(frozen=True)
+class LocateOptions:
+    """Histogram-search settings (defaults are the paper's).
+
+    ``scales`` are window sides as fractions of the image height; ``min_brightness``
+    is the least ``r + g + b`` whose chrominance is trusted; ``min_uniformity`` is
+    the least ``u_max`` reported as a shirt.
+    """
+
+    tau: float = 0.1
+    stride: int = 6
+    scales: tuple[float, ...] = (0.14, 0.2, 0.27, 0.36, 0.48, 0.64)
+    min_brightness: int = 60
+    min_uniformity: float = 0.45
+
+    def __post_init__(self) -> None:
+        if self.stride < 1:
+            raise ConfigError("locate stride must be at least 1 pixel")
+        if not self.scales or any(s <= 0 or s > 1 for s in self.scales):
+            raise ConfigError("locate scales must be fractions of the image height in (0, 1]")
+        if not 0 < self.tau <= 1:
+            raise ConfigError("locate tau must be in (0, 1]")
+
+
+@dataclass(frozen=True)
+class ShirtLocation:
+    """Where the shirt is: centre ``(x, y)`` and window side ``scale`` in pixels."""
+
+    x: float
+    y: float
+    scale: float
+    uniformity: float
+    found: bool
+
+    def box(self, margin: float = 1.0) -> tuple[int, int, int, int]:
+        """Integer ``(x0, y0, x1, y1)`` of the square window enlarged by ``margin``."""
+        half = 0.5 * self.scale * margin
+        return (
+            int(round(self.x - half)),
+            int(round(self.y - half)),
+            int(round(self.x + half)),
+            int(round(self.y + half)),
+        )
+
+
+@numba.njit(cache=True, nogil=True)
+def _chroma_bin_image(  # pragma: no cover - compiled
+    image: NDArray[np.uint8], mask: NDArray[np.bool_], use_mask: bool, min_brightness: int
+) -> NDArray[np.int16]:
+    h, w = image.shape[0], image.shape[1]
+    out = np.full((h, w), -1, np.int16)
+    for y in range(h):
+        for x in range(w):
+            if use_mask and not mask[y, x]:
+                continue
+            r = np.int32(image[y, x, 0])
+            g = np.int32(image[y, x, 1])
+            b = np.int32(image[y, x, 2])
+            s = r + g + b
+            if s < min_brightness:
+                continue
+            br = int(r * BINS_PER_AXIS // s)
+            bg = int(g * BINS_PER_AXIS // s)
+            out[y, x] = min(br, BINS_PER_AXIS - 1) * BINS_PER_AXIS + min(bg, BINS_PER_AXIS - 1)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_integral(  # pragma: no cover - compiled
+    bins: NDArray[np.int16], stride: int
+) -> NDArray[np.int32]:
+    hc = bins.shape[0] // stride
+    wc = bins.shape[1] // stride
+    integ = np.zeros((hc + 1, wc + 1, NUM_BINS), np.int32)
+    for y in range(hc * stride):
+        cy = y // stride + 1
+        for x in range(wc * stride):
+            b = bins[y, x]
+            if b >= 0:
+                integ[cy, x // stride + 1, b] += 1
+    for cy in range(1, hc + 1):
+        for cx in range(1, wc + 1):
+            for b in range(NUM_BINS):
+                integ[cy, cx, b] += (
+                    integ[cy - 1, cx, b] + integ[cy, cx - 1, b] - integ[cy - 1, cx - 1, b]
+                )
+    return integ
+
+
+@numba.njit(cache=True, nogil=True)
+def _window_uniformity(  # pragma: no cover - compiled
+    integ: NDArray[np.int32], s: int, area: float, tau: float, active: NDArray[np.bool_]
+) -> NDArray[np.float32]:
+    hc = integ.shape[0] - 1
+    wc = integ.shape[1] - 1
+    ny = hc - s + 1
+    nx = wc - s + 1
+    u = np.zeros((max(ny, 0), max(nx, 0)), np.float32)
+    cap = tau * area
+    for y0 in range(ny):
+        for x0 in range(nx):
+            if not active[y0 + s // 2, x0 + s // 2]:
+                continue
+            acc = 0.0
+            for b in range(NUM_BINS):
+                c = (
+                    integ[y0 + s, x0 + s, b]
+                    - integ[y0, x0 + s, b]
+                    - integ[y0 + s, x0, b]
+                    + integ[y0, x0, b]
+                )
+                acc += min(float(c), cap)
+            u[y0, x0] = acc / area
+    return u
+
+
+def chroma_bins(
+    image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None, min_brightness: int = 60
+) -> NDArray[np.int16]:
+    """(H, W) chrominance bin 0..99 of each pixel, -1 where masked out or too dark."""
+    if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+        raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {image.shape} {image.dtype}")
+    use_mask = mask is not None
+    m = np.ascontiguousarray(mask, np.bool_) if mask is not None else np.ones((1, 1), np.bool_)
+    return _chroma_bin_image(np.ascontiguousarray(image), m, use_mask, int(min_brightness))
+
+
+class ShirtLocator:
+    """Locates the shirt in RGB frames by histogram uniformity (stateless apart from options)."""
+
+    def __init__(self, options: LocateOptions | None = None) -> None:
+        self.options = options or LocateOptions()
+
+    def uniformity_maps(
+        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None
+    ) -> list[tuple[int, NDArray[np.float32]]]:
+        """Per scale: (window side in cells, u over window top-left cells)."""
+        o = self.options
+        bins = chroma_bins(image, mask, o.min_brightness)
+        integ = _cell_integral(bins, o.stride)
+        hc, wc = integ.shape[0] - 1, integ.shape[1] - 1
+        if mask is not None:
+            cells = cv2.resize(
+                mask.astype(np.uint8)[: hc * o.stride, : wc * o.stride],
+                (wc, hc),
+                interpolation=cv2.INTER_AREA,
+            )
+            active = cells > 0
+            # windows centred near foreground are evaluated too
+            active = cv2.dilate(active.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
+        else:
+            active = np.ones((hc, wc), np.bool_)
+        out = []
+        h = image.shape[0]
+        for frac in o.scales:
+            s = max(2, int(round(frac * h / o.stride)))
+            if s > min(hc, wc):
+                continue
+            area = float(s * s * o.stride * o.stride)
+            out.append((s, _window_uniformity(integ, s, area, o.tau, active)))
+        return out
+
+    def locate(
+        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None
+    ) -> ShirtLocation:
+        """Centre and scale of the most colorful region (the weighted average of §4)."""
+        o = self.options
+        maps = self.uniformity_maps(image, mask)
+        u_max = max((float(u.max()) for _, u in maps if u.size), default=0.0)
+        if u_max <= 0.0:
+            return ShirtLocation(image.shape[1] / 2, image.shape[0] / 2, 0.0, 0.0, False)
+        sigma = 0.1 * u_max
+        wsum = 0.0
+        acc = np.zeros(3)
+        for s, u in maps:
+            if not u.size:
+                continue
+            w = np.exp(-(((u.astype(np.float64) - u_max) / sigma) ** 2))
+            w[u <= 0] = 0.0
+            tot = float(w.sum())
+            if tot < 1e-12:
+                continue
+            ys, xs = np.indices(u.shape)
+            cx = ((xs + 0.5 * s) * o.stride * w).sum()
+            cy = ((ys + 0.5 * s) * o.stride * w).sum()
+            acc += (cx, cy, s * o.stride * tot)
+            wsum += tot
+        x, y, scale = acc / wsum
+        return ShirtLocation(float(x), float(y), float(scale), u_max, u_max >= o.min_uniformity)
+
+
+class BackgroundMask:
+    """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution.
+
+    ``warmup`` frames are needed before the mask is trusted; :meth:`apply` returns
+    None until then (callers then use no mask), and also when the mask is almost
+    empty, as happens when the person stands still for long.
+    """
+
+    def __init__(
+        self, downscale: int = 2, history: int = 500, warmup: int = 10, min_fraction: float = 0.01
+    ) -> None:
+        self.downscale = max(1, int(downscale))
+        self.history = history
+        self.warmup = warmup
+        self.min_fraction = min_fraction
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the learned background."""
+        self._sub = cv2.createBackgroundSubtractorMOG2(
+            history=self.history, varThreshold=16, detectShadows=False
+        )
+        self._frames = 0
+
+    def apply(self, image: NDArray[np.uint8]) -> NDArray[np.bool_] | None:
+        """Update the model with an RGB frame; the dilated foreground mask or None."""
+        h, w = image.shape[:2]
+        small = image
+        if self.downscale > 1:
+            small = np.asarray(cv2.resize(
+                image, (w // self.downscale, h // self.downscale), interpolation=cv2.INTER_AREA
+            ), dtype=np.uint8)
+        fg = self._sub.apply(small)
+        self._frames += 1
+        if self._frames <= self.warmup:
+            return None
+        fg = cv2.dilate((fg > 0).astype(np.uint8), np.ones((5, 5), np.uint8))
+        if fg.mean() < self.min_fraction:
+            return None
+        if self.downscale > 1:
+            fg = cv2.resize(fg, (w, h), interpolation=cv2.INTER_NEAREST)
+        return fg > 0

@@ -1,0 +1,91 @@
+"""Options of the color-shirt tracker (a frozen dataclass validated on creation)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.locate import LocateOptions
+
+__all__ = ["ColorShirtOptions"]
+
+
+@dataclass(frozen=True)
+class ColorShirtOptions:
+    """Everything that tunes the color-shirt tracker; defaults follow the paper.
+
+    * ``adaptive_white_balance``: refit ``W`` every frame and keep reference
+      illuminations (paper steps 1 and 5); off = ``W`` from the first frame forever.
+    * ``pose_prior``: pose-assisted reclassification and the IK priors towards the
+      blended and previous poses (steps 3 and 4); off = plain centroid IK.
+      Both off is the paper's comparison baseline (its predecessor, [WP09]).
+    * ``database_size`` poses in the database (paper: 80,000), cached in
+      ``database_cache`` (default ``~/.cache/bodyplay``).
+    * ``threshold`` (T = 3) and ``prior_threshold`` (T = 5) of the classifier,
+      ``prior_strength`` the 6 of ``C = 6 / s``, ``retry_fraction`` the 40% test.
+    * ``multiview_lookup``: with several cameras, rank all cameras' neighbours by
+      their mismatch in every camera before blending (else: the best camera's).
+    * ``ik_rounds``: IK solves per frame, re-anchoring the patches in between.
+    * ``wb_smoothing``: weight of the previous ``W`` when the refitted ``W*`` replaces it.
+    * ``background_subtraction``: MOG2 foreground mask for search and classification.
+    * ``work_size``: largest side (px) of the working crop the shirt is classified in;
+      ``crop_margin`` its size relative to the located window; ``blob_fraction``:
+      classified blobs smaller than this fraction of the largest are dropped.
+    * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
+      as seeing the shirt (else the frame is lost).
+    * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
+    * ``color_model``/``prior_model``: JSON files replacing the shipped models.
+    * ``body``: body-shape preset of the generic skeleton and mesh.
+    """
+
+    adaptive_white_balance: bool = True
+    pose_prior: bool = True
+    database_size: int = 20_000
+    database_cache: str | None = None
+    threshold: float = 3.0
+    prior_threshold: float = 5.0
+    prior_strength: float = 6.0
+    retry_fraction: float = 0.4
+    reference_distance: float = 0.5
+    wb_smoothing: float = 0.5
+    ik_rounds: int = 1
+    multiview_lookup: bool = False
+    background_subtraction: bool = True
+    work_size: int = 128
+    crop_margin: float = 2.6
+    blob_fraction: float = 0.15
+    min_colors: int = 4
+    min_color_fraction: float = 0.002
+    min_patch_fraction: float = 0.0015
+    max_mismatch: float = 0.5
+    initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
+    color_model: str | None = None
+    prior_model: str | None = None
+    body: str = "m"
+    locate: LocateOptions = field(default_factory=LocateOptions)
+
+    def __post_init__(self) -> None:
+        if self.database_size < 20:
+            raise ConfigError("database_size must be at least 20 poses (the paper uses 80,000)")
+        if not 0 < self.threshold <= self.prior_threshold:
+            raise ConfigError("need 0 < threshold <= prior_threshold (paper: 3 and 5)")
+        if not 0 <= self.retry_fraction <= 1:
+            raise ConfigError("retry_fraction must be within 0..1 (paper: 0.4)")
+        if self.reference_distance <= 0 or self.prior_strength < 0:
+            raise ConfigError("reference_distance must be > 0 and prior_strength >= 0")
+        if not 24 <= self.work_size <= 640:
+            raise ConfigError("work_size must be between 24 and 640 pixels")
+        if self.crop_margin < 1.0:
+            raise ConfigError("crop_margin must be at least 1 (the located window itself)")
+        if not 1 <= self.ik_rounds <= 5:
+            raise ConfigError("ik_rounds must be between 1 and 5")
+        if not 1 <= self.min_colors <= 10:
+            raise ConfigError("min_colors must be between 1 and 10")
+        if not 0 < self.max_mismatch <= 1:
+            raise ConfigError("max_mismatch must be within (0, 1]")
+        if self.initial_white_balance is not None:
+            W = np.asarray(self.initial_white_balance, dtype=float)
+            if W.shape != (3, 3) or not np.all(np.isfinite(W)):
+                raise ConfigError("initial_white_balance must be a finite 3x3 matrix")

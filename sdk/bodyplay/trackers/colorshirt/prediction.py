@@ -1,0 +1,160 @@
+"""Predicted id maps: the generic mesh rendered in a camera's crop, and what follows.
+
+The tracker renders its current pose estimate in each camera's working crop to get
+(a) patch anchors for the 6-DOF and IK fits (each visible patch's centroid, back-
+projected at its mean depth and attached to the patch's bone), (b) the pose prior of
+the refined classification (distance from each pixel to the nearest predicted
+pixel of each color, paper step 3) together with which of a color's two patches a
+pixel belongs to, and (c) the id map of the final pose from which the white
+balance is refitted (step 5).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shirt import NUM_COLORS, NUM_PATCHES, PATCHES, patch_color_index
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.render.idmap import project_vertices, rasterize_ids
+
+__all__ = ["CropWindow", "RenderedPose", "PoseRenderer", "PatchStats", "patch_stats"]
+
+_FAR = 1.0e4
+
+
+@dataclass(frozen=True)
+class CropWindow:
+    """A working crop of a camera image: image pixel ``p`` is crop pixel ``(p - x0y0) * scale``."""
+
+    x0: float
+    y0: float
+    scale: float
+    width: int
+    height: int
+
+    def to_crop(self, uv: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Image pixel coordinates (..., 2) to crop pixel coordinates."""
+        return (np.asarray(uv, float) - (self.x0, self.y0)) * self.scale
+
+    def to_image(self, uv: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Crop pixel coordinates (..., 2) to image pixel coordinates."""
+        return np.asarray(uv, float) / self.scale + (self.x0, self.y0)
+
+
+@dataclass(frozen=True, eq=False)
+class PatchStats:
+    """Per patch id 0..20: pixel count and centroid (crop pixels) in an id map."""
+
+    count: NDArray[np.int64]
+    centroid: NDArray[np.float64]
+
+
+def patch_stats(ids: NDArray[np.uint8], depth: NDArray[np.float32] | None = None
+                ) -> tuple[PatchStats, NDArray[np.float64] | None]:
+    """Counts and centroids of every id in a patch map (and mean depths if given)."""
+    h, w = ids.shape
+    flat = ids.reshape(-1).astype(np.int64)
+    n = NUM_PATCHES + 1
+    count = np.bincount(flat, minlength=n)[:n]
+    ys, xs = np.divmod(np.arange(h * w), w)
+    sx = np.bincount(flat, weights=xs, minlength=n)[:n]
+    sy = np.bincount(flat, weights=ys, minlength=n)[:n]
+    c = np.stack([sx, sy], axis=1) / np.maximum(count, 1)[:, None]
+    mean_depth = None
+    if depth is not None:
+        d = np.where(np.isfinite(depth), depth, 0.0).reshape(-1)
+        mean_depth = np.bincount(flat, weights=d, minlength=n)[:n] / np.maximum(count, 1)
+    return PatchStats(count, c), mean_depth
+
+
+@dataclass(frozen=True, eq=False)
+class RenderedPose:
+    """A pose rendered in a crop: patch ids (0 = none), depth, and per-patch stats."""
+
+    patches: NDArray[np.uint8]
+    depth: NDArray[np.float32]
+    stats: PatchStats
+    mean_depth: NDArray[np.float64]
+
+    def color_ids(self) -> NDArray[np.uint8]:
+        """The rendered map as color ids (0 = none, k + 1 = color k)."""
+        lut = np.zeros(256, np.uint8)
+        cidx = patch_color_index()
+        lut[1 : NUM_PATCHES + 1] = cidx[1:] + 1
+        return lut[self.patches]
+
+
+class PoseRenderer:
+    """Renders the generic body mesh of a skeleton into camera crops."""
+
+    def __init__(self, skeleton: Skeleton) -> None:
+        self.skeleton = skeleton
+        self.mesh = body_mesh(skeleton)
+        self.patch_node = np.full(NUM_PATCHES + 1, -1, np.int64)
+        for p in PATCHES:
+            self.patch_node[p.id] = skeleton.node_index(p.bone)
+        cidx = patch_color_index()
+        self.color_patches: list[list[int]] = [
+            [p for p in range(1, NUM_PATCHES + 1) if cidx[p] == k] for k in range(NUM_COLORS)
+        ]
+
+    def vertices(self, q: NDArray[np.float64]) -> NDArray[np.float32]:
+        """Skinned mesh vertices (V, 3) at pose ``q``."""
+        return self.mesh.pose(self.skeleton, q)
+
+    def render(self, verts: NDArray[np.float32], camera: Camera, window: CropWindow
+               ) -> RenderedPose:
+        """Patch ids and depth of posed vertices seen by ``camera`` in ``window``."""
+        uvz = project_vertices(verts, camera)
+        uvz[:, 0] = (uvz[:, 0] - window.x0) * window.scale
+        uvz[:, 1] = (uvz[:, 1] - window.y0) * window.scale
+        ids, depth = rasterize_ids(uvz, self.mesh.faces, self.mesh.face_part, window.width,
+                                   window.height, return_depth=True)
+        stats, mean_depth = patch_stats(ids, depth)
+        assert mean_depth is not None
+        return RenderedPose(ids, depth, stats, mean_depth)
+
+    def anchor_world(self, rendered: RenderedPose, camera: Camera, window: CropWindow,
+                     patches: NDArray[np.int64]) -> NDArray[np.float64]:
+        """(A, 3) world points that project on the rendered centroids of ``patches``."""
+        uv = window.to_image(rendered.stats.centroid[patches])
+        z = rendered.mean_depth[patches]
+        Kinv = np.linalg.inv(camera.K)
+        rays = np.concatenate([uv, np.ones((len(patches), 1))], axis=1) @ Kinv.T
+        pc = rays * z[:, None]
+        return (pc - camera.t) @ camera.R
+
+    def prior_penalty(self, rendered: RenderedPose, strength: float, min_pixels: int
+                      ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:
+        """The step-3 prior ``C d(r_b, k)`` (H, W, 10) and the nearer patch of each color.
+
+        Colors with no predicted pixel get a prohibitive penalty: the pose rules them
+        out. The second array (H, W, 10) holds, per pixel and color, the patch id
+        (of that color's two) nearest to the pixel, 0 when neither is predicted.
+        """
+        h, w = rendered.patches.shape
+        pen = np.full((h, w, NUM_COLORS), _FAR, np.float32)
+        owner = np.zeros((h, w, NUM_COLORS), np.uint8)
+        for k, pats in enumerate(self.color_patches):
+            best = None
+            for p in pats:
+                if rendered.stats.count[p] < min_pixels:
+                    continue
+                src = np.where(rendered.patches == p, 0, 255).astype(np.uint8)
+                d = cv2.distanceTransform(src, cv2.DIST_L2, 3)
+                if best is None:
+                    best = d
+                    owner[..., k] = p
+                else:
+                    nearer = d < best
+                    owner[..., k] = np.where(nearer, p, owner[..., k])
+                    best = np.minimum(best, d)
+            if best is not None:
+                pen[..., k] = strength * best
+        return pen, owner

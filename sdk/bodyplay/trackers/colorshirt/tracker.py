@@ -1,0 +1,572 @@
+"""The color-shirt tracker: the paper's per-frame pipeline behind the Tracker protocol.
+
+Per frame set, for every camera: background mask (MOG2) -> histogram search for
+the shirt (:mod:`.locate`) -> crop -> white balance and Mahalanobis classification
+(T = 3, background-masked) -> if under 40% of the foreground is classified, retry
+every reference illumination -> 40x40 query map -> database lookup. Then, over all
+cameras: blend of the ten nearest poses of the best-matching camera, placed by a
+6-DOF fit of its patch anchors -> pose-assisted reclassification (``C = 6 / s``,
+T = 5) -> IK on the patch centroids with priors towards the blend and the previous
+pose -> refit of ``W`` from the final pose's id map, stored as a new reference
+illumination when it is far from every stored one.
+
+When no camera sees a shirt (no colorful region, too few shirt colors, or no
+database pose resembling the classification) the result is :func:`lost_result`:
+the tracker never invents a pose.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS, UPPER_BODY
+from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
+from bodyplay.body.shirt import NUM_COLORS, PATCHES, SHIRT_COLORS
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.capture.frames import FrameSet
+from bodyplay.errors import CaptureError, TimestampError
+from bodyplay.trackers.base import JointState, TrackerCapabilities, TrackResult, lost_result
+from bodyplay.trackers.colorshirt.colors import ColorModel
+from bodyplay.trackers.colorshirt.database import (
+    PoseDatabase,
+    blend_poses,
+    canonical_camera,
+    mismatch,
+    render_normalized,
+)
+from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel
+from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
+from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.prediction import (
+    CropWindow,
+    PoseRenderer,
+    RenderedPose,
+    patch_stats,
+)
+from bodyplay.trackers.colorshirt.whitebalance import (
+    ReferenceIlluminations,
+    auto_white_balance,
+    classification_score,
+    white_balance_from_ids,
+)
+
+__all__ = ["ColorShirtTracker", "CameraView"]
+
+_WHITE = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
+_TORSO = {p.id for p in PATCHES if p.bone in ("thorax", "lumbar")}
+_JOINT_PATCHES: dict[str, set[int]] = {
+    "l_shoulder": {p.id for p in PATCHES if p.bone in ("l_clavicle", "l_shoulder")},
+    "r_shoulder": {p.id for p in PATCHES if p.bone in ("r_clavicle", "r_shoulder")},
+    "l_elbow": {p.id for p in PATCHES if p.bone in ("l_shoulder", "l_elbow")},
+    "r_elbow": {p.id for p in PATCHES if p.bone in ("r_shoulder", "r_elbow")},
+    "l_wrist": {p.id for p in PATCHES if p.bone == "l_elbow"},
+    "r_wrist": {p.id for p in PATCHES if p.bone == "r_elbow"},
+}
+
+
+@dataclass
+class _CameraState:
+    """What the tracker remembers per camera between frames."""
+
+    background: BackgroundMask
+    W: NDArray[np.float64] | None = None
+    references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
+    last_box: tuple[int, int, int, int] | None = None
+    last_fraction: float | None = None
+
+
+@dataclass(eq=False)
+class CameraView:
+    """One camera's share of a frame: crop, classification and database match."""
+
+    index: int
+    window: CropWindow
+    crop: NDArray[np.uint8]
+    mask: NDArray[np.bool_] | None
+    W: NDArray[np.float64]
+    ids: NDArray[np.uint8]
+    shirt_scale: float
+    query_scale: float = 1.0
+    query_offset: NDArray[np.float64] = field(default_factory=lambda: np.zeros(2))
+    query: NDArray[np.uint8] | None = None
+    distance: float = 1.0
+    neighbours: object | None = None
+    patch_ids: NDArray[np.uint8] | None = None
+
+
+class ColorShirtTracker:
+    """Upper-body tracker for the color shirt (see the module docstring).
+
+    Create it with :func:`bodyplay.trackers.colorshirt.create_colorshirt_tracker`.
+    """
+
+    name = "colorshirt"
+
+    def __init__(
+        self,
+        options: ColorShirtOptions,
+        cameras: tuple[Camera, ...],
+        database: PoseDatabase,
+        color_model: ColorModel,
+        prior: PriorModel,
+        skeleton: Skeleton,
+    ) -> None:
+        self.options = options
+        self.cameras = cameras
+        self.capabilities = TrackerCapabilities(
+            joints=UPPER_BODY, min_cameras=1, max_cameras=4, needs_calibration=True
+        )
+        self.database = database
+        self.color_model = color_model
+        self.prior = prior
+        self.skeleton = skeleton
+        self.locator = ShirtLocator(options.locate)
+        self.renderer = PoseRenderer(skeleton)
+        self.solver = KinematicSolver(skeleton, cameras)
+        self._canonical = canonical_camera()
+        self._undistort = [self._undistort_maps(c) for c in cameras]
+        self.reset()
+
+    # ---- state ---------------------------------------------------------------------
+    def reset(self) -> None:
+        """Forget the previous pose, learned illuminations and backgrounds."""
+        init = self.options.initial_white_balance
+        self._cams = [
+            _CameraState(BackgroundMask(downscale=2),
+                         references=ReferenceIlluminations(self.options.reference_distance))
+            for _ in self.cameras
+        ]
+        if init is not None:
+            for st in self._cams:
+                st.W = np.asarray(init, dtype=np.float64)
+                st.references.add(st.W)
+        self._prev: NDArray[np.float64] | None = None
+        self._last_t: float | None = None
+        self.diagnostics: dict[str, object] = {}
+        """Intermediate results of the last frame (blended pose, observed centroids),
+        for training the IK priors and for debugging."""
+
+    @staticmethod
+    def _undistort_maps(cam: Camera) -> tuple[NDArray[np.float32], NDArray[np.float32]] | None:
+        if not np.any(cam.dist):
+            return None
+        m1, m2 = cv2.initUndistortRectifyMap(cam.K, cam.dist, None, cam.K,
+                                             (cam.width, cam.height), cv2.CV_32FC1)
+        return np.asarray(m1, np.float32), np.asarray(m2, np.float32)
+
+    # ---- per camera: locate, classify, query -----------------------------------------
+    def _classify(self, st: _CameraState, crop: NDArray[np.uint8],
+                  mask: NDArray[np.bool_] | None, fg: NDArray[np.bool_]
+                  ) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
+        o = self.options
+        model = self.color_model
+        ys, xs = np.nonzero(fg)
+        if len(xs):  # the automatic search looks at the located window, mostly shirt
+            sub = (slice(ys.min(), ys.max() + 1), slice(xs.min(), xs.max() + 1))
+        else:
+            sub = (slice(None), slice(None))
+        sub_mask = None if mask is None else mask[sub]
+        if st.W is None:
+            auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
+                                      candidates=list(st.references.matrices))
+            st.W = auto.W
+            if o.adaptive_white_balance:
+                st.references.add(auto.W)
+        assert st.W is not None
+        cls = model.classify(crop, st.W, o.threshold, mask)
+        W = st.W
+        frac = cls.fraction_classified(fg)
+        # the paper's test (under 40% classified), plus a sudden halving of the
+        # classified share: a light switched on or off
+        sudden = st.last_fraction is not None and frac < 0.5 * st.last_fraction
+        if o.adaptive_white_balance and (frac < o.retry_fraction or sudden):
+            best = st.references.best(crop, model, mask, o.threshold)
+            if best is not None and np.count_nonzero(best[1].ids) > np.count_nonzero(cls.ids):
+                W, cls = best
+            frac2 = cls.fraction_classified(fg)
+            if frac2 < 0.5 * o.retry_fraction or (
+                st.last_fraction is not None and frac2 < 0.5 * st.last_fraction
+            ):
+                auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
+                                          candidates=list(st.references.matrices))
+                cls2 = model.classify(crop, auto.W, o.threshold, mask)
+                if classification_score(cls2.ids) > classification_score(cls.ids):
+                    W, cls = auto.W, cls2
+            st.W = W
+        st.last_fraction = cls.fraction_classified(fg)
+        return W, cls.ids
+
+    def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
+        o = self.options
+        st = self._cams[i]
+        maps = self._undistort[i]
+        if maps is not None:
+            image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
+        mask = st.background.apply(image) if o.background_subtraction else None
+        if mask is not None and st.last_box is not None:
+            # a person standing still fades into the background model: the region
+            # where the shirt was a frame ago always counts as foreground
+            bx0, by0, bx1, by1 = st.last_box
+            mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
+        loc = self.locator.locate(image, mask)
+        if not loc.found:
+            return None
+        h, w = image.shape[:2]
+        x0, y0, x1, y1 = loc.box(o.crop_margin)
+        if st.last_box is not None:  # the shirt is near where it was a frame ago
+            bx0, by0, bx1, by1 = st.last_box
+            x0, y0, x1, y1 = min(x0, bx0), min(y0, by0), max(x1, bx1), max(y1, by1)
+        x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, w), min(y1, h)
+        st.last_box = None
+        if x1 - x0 < 8 or y1 - y0 < 8:
+            return None
+        scale = min(1.0, o.work_size / max(x1 - x0, y1 - y0))
+        cw, chh = max(1, round((x1 - x0) * scale)), max(1, round((y1 - y0) * scale))
+        crop = np.asarray(cv2.resize(image[y0:y1, x0:x1], (cw, chh),
+                                     interpolation=cv2.INTER_AREA), np.uint8)
+        cmask = None
+        if mask is not None:
+            cmask = cv2.resize(mask[y0:y1, x0:x1].astype(np.uint8), (cw, chh),
+                               interpolation=cv2.INTER_NEAREST) > 0
+        window = CropWindow(float(x0), float(y0), float(cw) / (x1 - x0), cw, chh)
+        # the paper's "supposedly foreground": masked pixels inside the located window
+        fg = np.zeros((chh, cw), bool)
+        half = 0.5 * loc.scale * window.scale
+        cx, cy = (loc.x - x0) * window.scale, (loc.y - y0) * window.scale
+        fg[max(0, int(cy - half)) : int(cy + half), max(0, int(cx - half)) : int(cx + half)] = True
+        if cmask is not None:
+            fg &= cmask
+        W, ids = self._classify(st, crop, cmask, fg)
+        ids = self._clean(ids)
+        counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
+        min_px = max(4, int(o.min_color_fraction * ids.size))
+        if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
+            return None
+        ys, xs = np.nonzero(ids)
+        lo = np.array([xs.min(), ys.min()], float)
+        hi = np.array([xs.max(), ys.max()], float) + 1.0
+        extent = float(np.max(hi - lo))
+        view = CameraView(i, window, crop, cmask, W, ids, extent)
+        ys, xs = np.nonzero((ids > 0) & (ids != _WHITE))
+        blo = window.to_image(np.array([xs.min(), ys.min()], float))
+        bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
+        pad = 0.15 * (bhi - blo).max()
+        st.last_box = (int(blo[0] - pad), int(blo[1] - pad), int(bhi[0] + pad), int(bhi[1] + pad))
+        self._make_query(view, lo, hi)
+        return view
+
+    def _clean(self, ids: NDArray[np.uint8]) -> NDArray[np.uint8]:
+        """Keep the shirt-like blobs of a classification.
+
+        Speckle is opened away. Blobs are formed from the colored (non-white)
+        pixels, grown a little so a patch touches its neighbours; only blobs holding
+        at least two shirt colors count (dropping single-colored objects) and only
+        those not far smaller than the largest. White, which walls and mortar also
+        match, is kept only next to the kept blobs.
+        """
+        white = cv2.morphologyEx((ids == _WHITE).astype(np.uint8), cv2.MORPH_OPEN,
+                                 np.ones((2, 2), np.uint8))
+        core = cv2.morphologyEx(((ids > 0) & (ids != _WHITE)).astype(np.uint8), cv2.MORPH_OPEN,
+                                np.ones((3, 3), np.uint8))
+        grown = cv2.dilate(core, np.ones((5, 5), np.uint8))
+        n, labels = cv2.connectedComponents(grown, connectivity=8)
+        sel = core > 0
+        hist = np.bincount(labels[sel] * (NUM_COLORS + 1) + ids[sel],
+                           minlength=n * (NUM_COLORS + 1)).reshape(n, NUM_COLORS + 1)
+        area = hist.sum(axis=1)
+        n_colors = (hist[:, 1:] >= np.maximum(3, 0.03 * area)[:, None]).sum(axis=1)
+        valid = n_colors >= 2
+        valid[0] = False
+        if not valid.any():
+            return np.zeros_like(ids)
+        keep = valid & (area >= self.options.blob_fraction * area[valid].max())
+        kept = core * keep[labels].astype(np.uint8)
+        ys, xs = np.nonzero(core * (labels == np.argmax(np.where(valid, area, 0))))
+        r = max(2, int(0.05 * max(np.ptp(xs), np.ptp(ys))))
+        near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
+        keep_px = np.asarray(kept, np.uint8) | (np.asarray(white, np.uint8)
+                                                & np.asarray(near, np.uint8))
+        return (ids * keep_px).astype(np.uint8)
+
+    def _make_query(self, view: CameraView, lo: NDArray[np.float64],
+                    hi: NDArray[np.float64]) -> None:
+        """Normalize the classified crop like the database (bounding box, margin, 40x40)."""
+        db = self.database
+        n = db.options.map_size
+        extent = max(float(np.max(hi - lo)), 4.0)
+        s = n * (1.0 - 2.0 * db.options.margin) / extent
+        # crop pixel centres: bounding box of pixel areas [x - 0.5, x + 0.5]
+        centre = 0.5 * (lo + hi) - 0.5
+        off = (n - 1) / 2.0 - centre * s
+        M = np.array([[s, 0.0, off[0]], [0.0, s, off[1]]])
+        query = np.asarray(cv2.warpAffine(view.ids, M, (n, n), flags=cv2.INTER_NEAREST,
+                                          borderValue=0), np.uint8)
+        view.query = query
+        view.query_scale, view.query_offset = s, off
+        nb = db.query(query)
+        view.neighbours = nb
+        view.distance = float(nb.distance[0])
+
+    # ---- pose estimation -------------------------------------------------------------
+    def _place_entries(self, view: CameraView, pose: NDArray[np.float64],
+                       root_crop: NDArray[np.float64], root_depth: NDArray[np.float64],
+                       crop_scale: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Place database poses (C, D), relative to the canonical camera, in the world.
+
+        The root goes where the entry's root falls in ``view``'s normalized query, at
+        the depth that makes the shirt as large as observed; the orientation keeps
+        its relation to the camera.
+        """
+        cam = self.cameras[view.index]
+        s_img = view.query_scale * view.window.scale  # query px per image px
+        uv = view.window.to_image((root_crop - view.query_offset) / view.query_scale)
+        f_ratio = cam.K[0, 0] / self._canonical.K[0, 0]
+        depth = root_depth * f_ratio * s_img / crop_scale
+        rays = np.concatenate([uv, np.ones((len(uv), 1))], axis=1) @ np.linalg.inv(cam.K).T
+        roots = (rays * depth[:, None] - cam.t) @ cam.R
+        R_body = cam.R.T @ self._canonical.R @ rotvec_to_matrix(pose[:, 3:6])
+        q = pose.copy()
+        q[:, 0:3] = roots
+        q[:, 3:6] = matrix_to_rotvec(R_body)
+        return q
+
+    def _place(self, view: CameraView) -> NDArray[np.float64]:
+        """Blend ``view``'s neighbours and place the blend in the world through its camera."""
+        b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
+        return self._place_entries(view, b.pose[None], b.root_crop[None],
+                                   np.array([b.root_depth]), np.array([b.crop_scale]))[0]
+
+    def _multiview_blend(self, views: list[CameraView]) -> NDArray[np.float64]:
+        """With several cameras, rank every camera's neighbours by their mismatch in all.
+
+        Each candidate is placed through the camera that proposed it, rendered as a
+        normalized 40x40 map in every camera and scored by its summed mismatch
+        against the cameras' queries; the best ``neighbours`` are blended in world
+        coordinates. A pose that only one view explains (an arm hidden in it) loses.
+        """
+        db = self.database
+        seen: set[int] = set()
+        placed = []
+        for v in views:
+            idx = np.array([i for i in v.neighbours.index if i not in seen])  # type: ignore[attr-defined]
+            if not len(idx):
+                continue
+            seen.update(int(i) for i in idx)
+            placed.append(self._place_entries(
+                v, db.poses[idx].astype(np.float64), db.root_crop[idx].astype(np.float64),
+                db.root_depth[idx].astype(np.float64), db.crop_scale[idx].astype(np.float64)))
+        Q = np.concatenate(placed)
+        total = np.zeros(len(Q))
+        for v in views:
+            assert v.query is not None
+            maps = render_normalized(self.skeleton, Q, self.cameras[v.index], db.options)
+            total += mismatch(maps, v.query[None]) / float(v.query.size)
+        total /= len(views)
+        best = np.argsort(total, kind="stable")[: db.options.neighbours]
+        return blend_poses(Q[best], 1.0 / (total[best] + 0.02))
+
+    def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
+                 rendered: list[RenderedPose], observed: list[tuple[NDArray[np.int64],
+                                                                   NDArray[np.float64]]],
+                 ) -> PatchAnchors:
+        """Anchors for the patches seen both in the render and in the image, all cameras."""
+        o = self.options
+        nodes, locals_, cams, targets, sigmas, pids = [], [], [], [], [], []
+        for view, rend, (counts, cents) in zip(views, rendered, observed, strict=True):
+            cam = self.cameras[view.index]
+            min_px = max(3, int(o.min_patch_fraction * view.ids.size))
+            pats = np.nonzero((rend.stats.count >= min_px) & (counts >= min_px))[0]
+            pats = pats[pats > 0]
+            if not len(pats):
+                continue
+            world = self.renderer.anchor_world(rend, cam, view.window, pats)
+            node = self.renderer.patch_node[pats]
+            nodes.append(node)
+            locals_.append(self.solver.attach(q, node, world))
+            cams.append(np.full(len(pats), view.index))
+            targets.append(view.window.to_image(cents[pats]))
+            # constraint std: the trained relative std times the shirt size in image px,
+            # inflated for small (partly hidden) patches
+            size_px = view.shirt_scale / view.window.scale
+            sig = self.prior.centroid * size_px * np.sqrt(
+                np.maximum(1.0, rend.stats.count[pats].max() / (4.0 * counts[pats]))
+            )
+            sigmas.append(sig)
+            pids.append(pats)
+        if not nodes:
+            z = np.zeros(0, np.int64)
+            return PatchAnchors(z, np.zeros((0, 3)), z, np.zeros((0, 2)), np.zeros(0), z)
+        return PatchAnchors(np.concatenate(nodes), np.concatenate(locals_),
+                            np.concatenate(cams).astype(np.int64), np.concatenate(targets),
+                            np.concatenate(sigmas), np.concatenate(pids).astype(np.int64))
+
+    def _observed_by_color(self, view: CameraView, rend: RenderedPose
+                           ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        """Step-2 correspondences: each color's pixels go to its larger rendered patch."""
+        lut = np.zeros(NUM_COLORS + 1, np.uint8)
+        for k, pats in enumerate(self.renderer.color_patches):
+            lut[k + 1] = max(pats, key=lambda p: rend.stats.count[p])
+        view.patch_ids = lut[view.ids]
+        st, _ = patch_stats(view.patch_ids)
+        return st.count, st.centroid
+
+    def _refine_classification(self, view: CameraView, rend: RenderedPose
+                               ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        """Step 3: reclassify with the pose prior, then split colors into patches."""
+        o = self.options
+        C = o.prior_strength / max(view.shirt_scale, 1.0)
+        min_px = max(3, int(o.min_patch_fraction * view.ids.size))
+        pen, owner = self.renderer.prior_penalty(rend, C, min_px)
+        cls = self.color_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
+        ids = self._clean(cls.ids)
+        view.ids = ids
+        k = ids.astype(np.int64) - 1
+        yy, xx = np.nonzero(ids)
+        patch_ids = np.zeros_like(ids)
+        patch_ids[yy, xx] = owner[yy, xx, k[yy, xx]]
+        view.patch_ids = patch_ids
+        st, _ = patch_stats(patch_ids)
+        return st.count, st.centroid
+
+    def _refit_white_balance(self, view: CameraView, rend: RenderedPose) -> None:
+        """Step 5: ``W*`` from the final pose's id map; store it if it is new.
+
+        Pixels count when the final pose renders them (away from patch edges) and the
+        refined classification agrees on their color, so a slightly misplaced render
+        cannot drag a color's mean towards its neighbour's. ``W*`` is damped towards
+        the current ``W`` (``wb_smoothing``) against frame-to-frame jitter.
+        """
+        st = self._cams[view.index]
+        colors = rend.color_ids()
+        inner = cv2.erode((colors > 0).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+        keep = inner & (view.ids == colors)
+        if view.mask is not None:
+            keep &= view.mask
+        ids = np.where(keep, colors, 0).astype(np.uint8)
+        W = white_balance_from_ids(view.crop, ids, self.color_model, prior=view.W,
+                                   min_colors=4, ridge_fraction=0.05)
+        if W is None:
+            return
+        a = self.options.wb_smoothing
+        st.W = a * view.W + (1.0 - a) * W
+        st.references.add(st.W)
+
+    # ---- the frame -------------------------------------------------------------------
+    def process(self, frames: FrameSet) -> TrackResult:
+        """Estimate the upper-body pose for one synchronized frame set."""
+        t0 = time.perf_counter()
+        if self._last_t is not None and not frames.t > self._last_t:
+            raise TimestampError(
+                f"frame set {frames.index} at t={frames.t} is not after t={self._last_t}; "
+                "feed frames in time order (or call reset())"
+            )
+        self._last_t = frames.t
+        if len(frames) != len(self.cameras):
+            raise CaptureError(
+                f"got {len(frames)} frames for {len(self.cameras)} cameras; the frame set "
+                "must hold one frame per calibrated camera"
+            )
+        views = [v for i, fr in enumerate(frames) if (v := self._view(i, fr.image)) is not None]
+        views = [v for v in views if v.distance <= self.options.max_mismatch]
+        self.diagnostics = {}
+        if not views:
+            self._prev = None
+            return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
+        q, observed_patches = self._estimate(views)
+        if not self._plausible(q, views):
+            self._prev = None
+            return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
+        self._prev = q
+        return self._result(frames, q, observed_patches, views, t0)
+
+    def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
+        """Whether an estimate can be reported: in front of every camera that saw the
+        shirt, its chest inside that camera's crop, and not wildly far from the
+        database placement. A garbage fit (e.g. right after a light switch) is
+        reported lost rather than as a pose metres away."""
+        chest = self.skeleton.joint_positions(q)[UPPER_BODY.index("chest")]
+        for v in views:
+            cam = self.cameras[v.index]
+            z = float(cam.world_to_camera(chest)[2])
+            if not 0.3 < z < 12.0:
+                return False
+            uv = v.window.to_crop(cam.project(chest, distort=False))
+            if not (-0.25 * v.window.width <= uv[0] <= 1.25 * v.window.width
+                    and -0.25 * v.window.height <= uv[1] <= 1.25 * v.window.height):
+                return False
+        q_b = self.diagnostics.get("q_blend")
+        return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
+
+    def _estimate(self, views: list[CameraView]) -> tuple[NDArray[np.float64], set[int]]:
+        o = self.options
+        if len(views) > 1 and o.multiview_lookup:
+            q_b = self._multiview_blend(views)
+        else:
+            q_b = self._place(min(views, key=lambda v: v.distance))
+        verts = self.renderer.vertices(q_b)
+        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
+        observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
+        anchors = self._anchors(q_b, views, rendered, observed)
+        q_b = self.solver.solve_global(q_b, anchors)
+        self.diagnostics["q_blend"] = q_b
+        verts = self.renderer.vertices(q_b)
+        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
+        if o.pose_prior:
+            observed = [self._refine_classification(v, r)
+                        for v, r in zip(views, rendered, strict=True)]
+        else:
+            observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
+        anchors = self._anchors(q_b, views, rendered, observed)
+        self.diagnostics["observed"] = [(v, counts, cents) for v, (counts, cents)
+                                        in zip(views, observed, strict=True)]
+        q = q_b
+        prior = self.prior if o.pose_prior else None
+        prev = self._prev if o.pose_prior else None
+        for round_ in range(o.ik_rounds):
+            if len(anchors) < 3:
+                break
+            q = self.solver.solve_ik(q_b, anchors, prior, prev, q_start=q)
+            # the visible part of each patch changes with the pose: re-anchor
+            verts = self.renderer.vertices(q)
+            rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
+                        for v in views]
+            if round_ + 1 < o.ik_rounds:
+                anchors = self._anchors(q, views, rendered, observed)
+        if o.adaptive_white_balance:
+            for v, r in zip(views, rendered, strict=True):
+                self._refit_white_balance(v, r)
+        return q, {int(p) for p in anchors.patch}
+
+    def _result(self, frames: FrameSet, q: NDArray[np.float64], seen: set[int],
+                views: list[CameraView], t0: float) -> TrackResult:
+        joints = np.full((NUM_JOINTS, 3), np.nan)
+        J = self.skeleton.joint_positions(q)
+        n_up = len(UPPER_BODY)
+        joints[:n_up] = J[:n_up]
+        torso_seen = len(seen & _TORSO) >= 2
+        match = 1.0 - min(v.distance for v in views)
+        state: list[JointState] = []
+        conf = np.zeros(NUM_JOINTS)
+        for j, name in enumerate(JOINT_NAMES):
+            if j >= n_up:
+                state.append("lost")
+                continue
+            if name in _JOINT_PATCHES:
+                tracked = bool(seen & _JOINT_PATCHES[name])
+            elif name == "head":
+                tracked = False  # no patch on the head: it follows the database blend
+            else:
+                tracked = torso_seen
+            state.append("tracked" if tracked else "inferred")
+            conf[j] = (0.9 if tracked else 0.4) * match
+        ms = 1000.0 * (time.perf_counter() - t0)
+        return TrackResult(frames.index, frames.t, joints, tuple(state), conf, ms, q,
+                           extras={"cameras_used": [v.index for v in views],
+                                   "mismatch": 1.0 - match,
+                                   "classified": [(v.index, v.window, v.ids) for v in views]})

@@ -1,0 +1,277 @@
+"""White balance for the shirt: the 3x3 matrix ``W`` and the reference illuminations.
+
+``W`` maps observed camera RGB to the color model's RGB, ``W I ~ mu``. It is solved
+by least squares from per-color mean patch colors (paper §5.1: the paper writes the
+argmin with ``W`` applied to the model means but applies it to image pixels; we fit
+the direction it is used in), from user scribbles, from the final pose's id map
+(step 5), or, with no scribbles at all, by :func:`auto_white_balance`: a search
+over illuminant gains and a gray-world start scored by how many shirt colors the
+located region yields, then refined by refitting ``W`` from its own classification.
+
+:class:`ReferenceIlluminations` keeps the paper's set of previously seen ``W``:
+when under 40% of the foreground is classified every stored ``W`` is tried and the
+best kept, and a refitted ``W*`` is stored when it differs from every stored one by
+more than 0.5 in Frobenius norm.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from bodyplay.body.shirt import NUM_COLORS
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.colors import Classification, ColorModel
+
+__all__ = [
+    "fit_white_balance",
+    "color_means",
+    "white_balance_from_ids",
+    "white_balance_from_scribbles",
+    "auto_white_balance",
+    "classification_score",
+    "ReferenceIlluminations",
+    "AutoWhiteBalance",
+]
+
+
+def fit_white_balance(
+    observed: ArrayLike,
+    target: ArrayLike,
+    weights: ArrayLike | None = None,
+    prior: ArrayLike | None = None,
+    ridge: float = 1e3,
+    off_diagonal: float = 1.0,
+) -> NDArray[np.float64]:
+    """Least-squares ``W = argmin sum_k w_k ||W o_k - mu_k||^2 + sum_ij r_ij (W - P)_ij^2``.
+
+    ``observed`` and ``target`` are (K, 3) mean colors (0..255). The ridge ``r`` pulls
+    towards ``prior`` ``P`` (identity when None), ``off_diagonal`` times harder on
+    the channel-mixing entries: it keeps ``W`` defined when fewer than three colors
+    are seen, and stops the mixing terms drifting when the visible colors are
+    all alike (e.g. only the warm torso colors). Rows are solved independently.
+    """
+    o = np.asarray(observed, dtype=np.float64).reshape(-1, 3)
+    m = np.asarray(target, dtype=np.float64).reshape(-1, 3)
+    if o.shape != m.shape:
+        raise ConfigError(f"observed {o.shape} and target {m.shape} colors differ in shape")
+    w = np.ones(o.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
+    P = np.eye(3) if prior is None else np.asarray(prior, dtype=np.float64)
+    A = (o * w[:, None]).T @ o
+    W = np.empty((3, 3))
+    for i in range(3):
+        r = np.full(3, ridge * off_diagonal)
+        r[i] = ridge
+        W[i] = np.linalg.solve(A + np.diag(r), (o * w[:, None]).T @ m[:, i] + r * P[i])
+    return W
+
+
+def color_means(
+    image: NDArray[np.uint8], ids: NDArray[np.uint8], min_pixels: int = 15
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Mean raw RGB of each color in a color id map, and pixel counts (0 if too few)."""
+    lab = ids.reshape(-1).astype(np.int64)
+    px = image.reshape(-1, 3).astype(np.float64)
+    counts = np.bincount(lab, minlength=NUM_COLORS + 1)[1 : NUM_COLORS + 1]
+    sums = np.stack(
+        [np.bincount(lab, weights=px[:, c], minlength=NUM_COLORS + 1) for c in range(3)], axis=1
+    )[1 : NUM_COLORS + 1]
+    means = sums / np.maximum(counts, 1)[:, None]
+    counts = np.where(counts >= min_pixels, counts, 0)
+    return means, counts
+
+
+def white_balance_from_ids(
+    image: NDArray[np.uint8],
+    ids: NDArray[np.uint8],
+    model: ColorModel,
+    prior: ArrayLike | None = None,
+    min_pixels: int = 15,
+    min_colors: int = 3,
+    ridge_fraction: float = 0.0,
+) -> NDArray[np.float64] | None:
+    """Refit ``W`` from an id map (a classification, a rendered pose or scribbles).
+
+    Each color with at least ``min_pixels`` pixels contributes its mean, weighted by
+    the square root of its count. Returns None when fewer than ``min_colors`` colors
+    are present (then keep the current ``W``). ``ridge_fraction`` > 0 pulls ``W``
+    towards ``prior`` with that fraction of the data's own weight (ten times harder
+    on the channel-mixing entries).
+    """
+    means, counts = color_means(image, ids, min_pixels)
+    sel = counts > 0
+    if int(sel.sum()) < min_colors:
+        return None
+    w = np.sqrt(counts[sel])
+    ridge = 1e3
+    off = 1.0
+    if ridge_fraction > 0:
+        ridge = ridge_fraction * float(np.sum(w[:, None] * means[sel] ** 2)) / 3.0
+        off = 10.0
+    return fit_white_balance(means[sel], model.means[sel], weights=w, prior=prior, ridge=ridge,
+                             off_diagonal=off)
+
+
+def white_balance_from_scribbles(
+    image: NDArray[np.uint8], scribbles: NDArray[np.integer], model: ColorModel
+) -> NDArray[np.float64]:
+    """The paper's initialization: ``W`` from coarse scribbles on the visible patches.
+
+    ``scribbles`` is (H, W) with the color index 0..9 under each scribbled pixel and
+    -1 elsewhere. Raises ConfigError when fewer than three colors were scribbled.
+    """
+    s = np.asarray(scribbles)
+    if s.shape != image.shape[:2]:
+        raise ConfigError(f"scribble mask {s.shape} does not match image {image.shape[:2]}")
+    ids = np.where(s >= 0, s + 1, 0).astype(np.uint8)
+    W = white_balance_from_ids(image, ids, model, min_pixels=5)
+    if W is None:
+        raise ConfigError("scribble on at least three differently colored patches")
+    return W
+
+
+def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None) -> float:
+    """How shirt-like a classification is: ``sum_k min(fraction_k, 0.1)`` over colors.
+
+    The cap (the uniformity measure of the histogram search) stops a ``W`` that
+    paints everything one color from scoring well; 1.0 means all ten colors each
+    cover a tenth of the pixels.
+    """
+    n = ids.size if n_pixels is None else n_pixels
+    counts = np.bincount(ids.reshape(-1), minlength=NUM_COLORS + 1)[1:]
+    return float(np.minimum(counts / max(n, 1), 0.1).sum())
+
+
+@dataclass(frozen=True)
+class AutoWhiteBalance:
+    """The result of :func:`auto_white_balance`: ``W``, its score and classified fraction."""
+
+    W: NDArray[np.float64]
+    score: float
+    fraction: float
+
+
+def _candidate_gains(
+    image: NDArray[np.uint8], mask: NDArray[np.bool_] | None, model: ColorModel
+) -> list[NDArray[np.float64]]:
+    cands: list[NDArray[np.float64]] = []
+    px = image.reshape(-1, 3).astype(np.float64)
+    if mask is not None:
+        px = px[mask.reshape(-1)]
+    mean = px.mean(axis=0) if px.size else np.full(3, 128.0)
+    model_mean = model.means.mean(axis=0)
+    # gray world: scale each channel so the region's mean matches the model's mean color
+    cands.append(np.diag(model_mean / np.maximum(mean, 1.0)))
+    gray = float(model_mean.mean() / max(mean.mean(), 1.0))
+    for scale in (gray * 0.8, gray, gray * 1.25, 1.0):
+        for gr in (0.6, 0.8, 1.0, 1.25, 1.6):
+            for gb in (0.6, 0.8, 1.0, 1.25, 1.6):
+                cands.append(scale * np.diag([gr, 1.0, gb]))
+    return cands
+
+
+def auto_white_balance(
+    image: NDArray[np.uint8],
+    model: ColorModel,
+    mask: NDArray[np.bool_] | None = None,
+    threshold: float = 3.0,
+    refine_steps: int = 3,
+    sample: int = 48,
+    candidates: list[NDArray[np.float64]] | None = None,
+) -> AutoWhiteBalance:
+    """Estimate ``W`` with no scribbles from an image of the (located) shirt region.
+
+    Tries a gray-world start and a grid of illuminant gains (von Kries diagonal
+    matrices at several exposures) on a ``sample``-pixel-wide thumbnail, keeps the
+    one with the best :func:`classification_score`, then alternates classifying
+    the full region and refitting the full 3x3 ``W`` from its color means. Extra
+    ``candidates`` (e.g. stored reference illuminations) join the search.
+    """
+    import cv2
+
+    h, w = image.shape[:2]
+    f = min(1.0, sample / max(h, w))
+    small = image
+    small_mask = mask
+    if f < 1.0:
+        size = (max(1, round(w * f)), max(1, round(h * f)))
+        small = np.asarray(cv2.resize(image, size, interpolation=cv2.INTER_AREA), np.uint8)
+        if mask is not None:
+            small_mask = cv2.resize(mask.astype(np.uint8), size,
+                                    interpolation=cv2.INTER_NEAREST) > 0
+    n_small = int(small_mask.sum()) if small_mask is not None else small.shape[0] * small.shape[1]
+    best_W = np.eye(3)
+    best_score = -1.0
+    for W in [*_candidate_gains(image, mask, model), *(candidates or [])]:
+        cls = model.classify(small, W, threshold, small_mask)
+        s = classification_score(cls.ids, n_small)
+        if s > best_score:
+            best_score, best_W = s, W
+    n_full = int(mask.sum()) if mask is not None else h * w
+    cls = model.classify(image, best_W, threshold, mask)
+    score = classification_score(cls.ids, n_full)
+    for _ in range(refine_steps):
+        W2 = white_balance_from_ids(image, cls.ids, model, prior=best_W, min_colors=4,
+                                    ridge_fraction=0.1)
+        if W2 is None:
+            break
+        cls2 = model.classify(image, W2, threshold, mask)
+        s2 = classification_score(cls2.ids, n_full)
+        if s2 < score - 1e-3:
+            break
+        best_W, cls, score = W2, cls2, s2
+    return AutoWhiteBalance(best_W, score, cls.fraction_classified(mask))
+
+
+@dataclass
+class ReferenceIlluminations:
+    """The set of reference white-balance matrices (paper §5.2 steps 1 and 5).
+
+    Mutable per-tracker state: :meth:`add` stores ``W*`` when it is farther than
+    ``min_distance`` (Frobenius) from every stored matrix; :meth:`best` re-classifies
+    with each stored matrix and returns the one classifying the most foreground.
+    """
+
+    min_distance: float = 0.5
+    max_size: int = 32
+    matrices: list[NDArray[np.float64]] = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.matrices)
+
+    def add(self, W: ArrayLike) -> bool:
+        """Store ``W`` if it is new enough; True when it was stored."""
+        Wm = np.asarray(W, dtype=np.float64)
+        if Wm.shape != (3, 3) or not np.all(np.isfinite(Wm)):
+            raise ConfigError("a reference illumination must be a finite 3x3 matrix")
+        if self.matrices:
+            d = min(float(np.linalg.norm(Wm - M)) for M in self.matrices)
+            if d <= self.min_distance:
+                return False
+        self.matrices.append(Wm.copy())
+        if len(self.matrices) > self.max_size:
+            self.matrices.pop(1)  # keep the first (user / bootstrap) illumination
+        return True
+
+    def best(
+        self,
+        image: NDArray[np.uint8],
+        model: ColorModel,
+        mask: NDArray[np.bool_] | None,
+        threshold: float,
+    ) -> tuple[NDArray[np.float64], Classification] | None:
+        """The stored ``W`` that classifies the most foreground pixels, with its result."""
+        best: tuple[NDArray[np.float64], Classification] | None = None
+        best_n = -1
+        for W in self.matrices:
+            cls = model.classify(image, W, threshold, mask)
+            n = int(np.count_nonzero(cls.ids))
+            if n > best_n:
+                best_n, best = n, (W, cls)
+        return best
+
+    def clear(self) -> None:
+        """Forget every stored illumination."""
+        self.matrices.clear()

@@ -1,0 +1,99 @@
+"""Specifications of the color-shirt color model and Mahalanobis classifier."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from colorshirt_paint import clutter, paint_shirt
+
+from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.colors import (
+    ColorModel,
+    default_color_model,
+    srgb_color_model,
+)
+
+
+def test_fit_recovers_means_and_covariances_of_labeled_pixels() -> None:
+    rng = np.random.default_rng(1)
+    mus = np.array([c.rgb for c in SHIRT_COLORS], float)
+    labels = np.repeat(np.arange(NUM_COLORS), 2000)
+    pixels = mus[labels] + rng.normal(0, 6.0, size=(labels.size, 3))
+    model = ColorModel.fit(pixels, labels)
+    assert np.allclose(model.means, mus, atol=0.6)
+    assert np.allclose(np.sqrt(np.diagonal(model.covariances, axis1=1, axis2=2)), 6.3, atol=0.5)
+
+
+def test_fit_rejects_a_color_with_too_few_pixels() -> None:
+    pixels = np.zeros((30, 3))
+    with pytest.raises(ConfigError, match="red"):
+        ColorModel.fit(pixels, np.full(30, 3))
+
+
+def test_classify_labels_painted_shirt_and_leaves_far_pixels_unclassified() -> None:
+    rng = np.random.default_rng(2)
+    img = clutter(120, 160, rng)
+    labels = paint_shirt(img, 20, 5, 20, rng)
+    cls = srgb_color_model().classify(img, threshold=3.0)
+    on = labels >= 0
+    assert np.mean(cls.ids[on] == labels[on] + 1) > 0.98
+    # a pure black and a saturated non-shirt color are far from every Gaussian
+    probe = np.array([[[0, 0, 0], [0, 255, 255]]], np.uint8)
+    assert srgb_color_model().classify(probe).ids.tolist() == [[0, 0]]
+
+
+def test_classify_matches_the_vectorized_mahalanobis_distance() -> None:
+    rng = np.random.default_rng(3)
+    img = rng.integers(0, 256, size=(17, 23, 3), dtype=np.uint8)
+    model = srgb_color_model()
+    W = np.array([[1.1, 0.05, 0.0], [0.0, 0.9, 0.02], [0.01, 0.0, 1.3]])
+    cls = model.classify(img, W, threshold=4.0)
+    d = model.mahalanobis(img.reshape(-1, 3) @ W.T)
+    best = d.min(axis=1).reshape(17, 23)
+    expect = np.where(best < 4.0, d.argmin(axis=1).reshape(17, 23) + 1, 0)
+    assert np.allclose(cls.distance, best, rtol=1e-4)
+    assert np.array_equal(cls.ids, expect)
+
+
+def test_background_mask_suppresses_classification() -> None:
+    rng = np.random.default_rng(4)
+    img = clutter(60, 80, rng)
+    paint_shirt(img, 0, 0, 12, rng)
+    mask = np.zeros(img.shape[:2], bool)
+    mask[:, :24] = True
+    cls = srgb_color_model().classify(img, mask=mask)
+    assert not cls.ids[:, 24:].any()
+    assert cls.ids[:, :24].any()
+    assert 0 < cls.fraction_classified(mask) <= 1
+
+
+def test_penalty_changes_the_winning_color() -> None:
+    px = np.array([[SHIRT_COLORS[2].rgb]], np.uint8)  # yellow
+    pen = np.zeros((1, 1, NUM_COLORS), np.float32)
+    pen[0, 0, 2] = 100.0
+    model = srgb_color_model()
+    assert model.classify(px).ids[0, 0] == 3
+    assert model.classify(px, threshold=1e9, penalty=pen).ids[0, 0] != 3
+    assert model.classify(px, threshold=5.0, penalty=pen).ids[0, 0] == 0
+
+
+def test_model_round_trips_through_json(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    model = srgb_color_model()
+    back = ColorModel.load(model.save(tmp_path / "m.json"))
+    assert np.allclose(back.means, model.means) and np.allclose(back.covariances, model.covariances)
+
+
+def test_default_model_classifies_nominal_colors_as_themselves() -> None:
+    model = default_color_model()
+    px = np.array([[c.rgb for c in SHIRT_COLORS]], np.uint8)
+    assert model.classify(px, threshold=5.0).ids[0].tolist() == list(range(1, NUM_COLORS + 1))
+
+
+def test_invalid_models_and_images_are_rejected() -> None:
+    with pytest.raises(ConfigError):
+        ColorModel(np.zeros((3, 3)), np.zeros((3, 3, 3)))
+    with pytest.raises(ConfigError):
+        ColorModel(np.zeros((10, 3)), np.zeros((10, 3, 3)))
+    with pytest.raises(ConfigError):
+        srgb_color_model().classify(np.zeros((4, 4), np.uint8))

@@ -1,0 +1,138 @@
+"""Specifications of the color-shirt tracker on frames painted with the generic mesh."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from colorshirt_paint import clutter
+
+from bodyplay.body import UPPER_BODY, Skeleton
+from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shirt import patch_colors_rgb
+from bodyplay.capture.camera import Camera, look_at
+from bodyplay.capture.frames import Frame, FrameSet
+from bodyplay.errors import CaptureError, ConfigError, TimestampError
+from bodyplay.motion import sample_poses
+from bodyplay.render.idmap import render_idmaps
+from bodyplay.trackers.base import Tracker
+from bodyplay.trackers.colorshirt import (
+    ColorShirtOptions,
+    DatabaseOptions,
+    create_colorshirt_tracker,
+)
+from bodyplay.trackers.colorshirt.database import build_database
+
+SK = Skeleton()
+
+
+def _cams(n: int) -> tuple[Camera, ...]:
+    out = []
+    for i, x in enumerate((-0.6, 0.7)[:n]):
+        R, t = look_at((x, 1.35, 2.8), (0, 1.15, 0))
+        out.append(Camera.from_fov(f"cam{i}", 640, 480, 60, R, t))
+    return tuple(out)
+
+
+@pytest.fixture(scope="module")
+def db():  # type: ignore[no-untyped-def]
+    poses = sample_poses(SK, 4000, np.random.default_rng(0), yaw_range=(-1.3, 1.3))
+    return build_database(SK, DatabaseOptions(size=4000), poses)
+
+
+def _paint(q: np.ndarray, cams: tuple[Camera, ...], rng: np.random.Generator,
+           gains=(1.0, 1.0, 1.0)) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
+    mesh = body_mesh(SK)
+    fid = np.where(mesh.face_part > 0, mesh.face_part, 21).astype(np.uint8)
+    pal = np.zeros((256, 3), float)
+    pal[:21] = patch_colors_rgb()
+    pal[21] = (222, 171, 140)
+    out = []
+    for cam in cams:
+        ids = render_idmaps(mesh.pose(SK, q)[None], mesh.faces, fid, cam)[0]
+        img = clutter(480, 640, rng).astype(float)
+        on = ids > 0
+        shade = rng.uniform(0.85, 1.0, size=on.sum())[:, None]
+        img[on] = pal[ids[on]] * shade * np.asarray(gains) + rng.normal(0, 3, (on.sum(), 3))
+        out.append(np.clip(img, 0, 255).astype(np.uint8))
+    return out
+
+
+def _frameset(images: list[np.ndarray], i: int) -> FrameSet:
+    t = i / 30.0
+    return FrameSet(tuple(Frame(im, t, i, f"cam{k}") for k, im in enumerate(images)), t, i)
+
+
+def _truth(seed: int) -> np.ndarray:
+    q = sample_poses(SK, 1, np.random.default_rng(seed), mode="clips",
+                     yaw_range=(-0.5, 0.5), blend_share=0.0)[0]
+    return q
+
+
+def test_tracker_implements_the_protocol_and_reports_upper_body_only(db) -> None:  # type: ignore[no-untyped-def]
+    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    assert isinstance(tr, Tracker)
+    assert tr.capabilities.joints == UPPER_BODY and tr.capabilities.upper_body_only
+
+
+@pytest.mark.parametrize("ncam,limit_cm", [(2, 9.0), (1, 14.0)])
+def test_tracker_finds_a_painted_shirt_pose(db, ncam, limit_cm) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(1)
+    cams = _cams(ncam)
+    tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False), cams,
+                                   database=db)
+    errs = []
+    for i, seed in enumerate((11, 12, 13)):
+        q = _truth(seed)
+        tr.reset()  # unrelated poses: no temporal prior between them
+        r = tr.process(_frameset(_paint(q, cams, rng), i))
+        assert r.found
+        assert all(s == "lost" for s in r.state[len(UPPER_BODY):])
+        assert np.all(np.isnan(r.joints[len(UPPER_BODY):]))
+        assert r.state[UPPER_BODY.index("head")] == "inferred"
+        errs.append(np.linalg.norm(r.joints[:11] - SK.joint_positions(q)[:11], axis=1).mean())
+        rec = r.to_json()
+        assert rec["joints"]["l_knee"] is None and rec["ms"] > 0  # type: ignore[index]
+    assert 100 * np.mean(errs) < limit_cm
+
+
+def test_tracker_reports_lost_without_a_shirt_and_never_invents_a_pose(db) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(2)
+    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    img = clutter(480, 640, rng)
+    img[100:200, 100:300] = (230, 40, 40)  # a red poster is not a shirt
+    for i in range(3):
+        r = tr.process(_frameset([img], i))
+        assert not r.found and np.all(np.isnan(r.joints))
+
+
+def test_tracker_recovers_white_balance_under_a_color_cast(db) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(3)
+    cams = _cams(2)
+    tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False), cams,
+                                   database=db)
+    q = _truth(21)
+    r = tr.process(_frameset(_paint(q, cams, rng, gains=(1.25, 0.95, 0.6)), 0))
+    assert r.found
+    err = np.linalg.norm(r.joints[:11] - SK.joint_positions(q)[:11], axis=1).mean()
+    assert err < 0.12
+
+
+def test_tracker_rejects_frames_out_of_order_and_wrong_camera_counts(db) -> None:  # type: ignore[no-untyped-def]
+    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    img = clutter(480, 640, np.random.default_rng(4))
+    tr.process(_frameset([img], 5))
+    with pytest.raises(TimestampError):
+        tr.process(_frameset([img], 5))
+    with pytest.raises(CaptureError):
+        tr.process(_frameset([img, img], 6))
+    tr.reset()
+    tr.process(_frameset([img], 1))
+
+
+def test_options_and_factory_validate_their_inputs(db) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(ConfigError):
+        ColorShirtOptions(threshold=6.0, prior_threshold=5.0)
+    with pytest.raises(ConfigError):
+        ColorShirtOptions(initial_white_balance=((1.0, 0.0), (0.0, 1.0)))  # type: ignore[arg-type]
+    with pytest.raises(ConfigError):
+        create_colorshirt_tracker(ColorShirtOptions(), (), database=db)
