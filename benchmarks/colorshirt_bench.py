@@ -23,6 +23,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
@@ -61,7 +62,7 @@ def capture(work: Path, clip: str, lighting: str, seconds: float) -> Path:
     return out
 
 
-def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[str, float]:  # type: ignore[no-untyped-def]
+def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[str, Any]:  # type: ignore[no-untyped-def]
     """Track a capture; MPJPE (cm) over frames with a pose, found share, ms per camera frame."""
     src = open_source(folder)
     assert src.cameras is not None
@@ -77,9 +78,14 @@ def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[st
                 found += 1
                 errs.append(np.linalg.norm(r.joints[:11] - truth.joints[fs.index][:11], axis=1))
     e = np.array(errs)
+    # with body="auto" the first frames fit every preset: time the rest separately
+    skip = 1 + (opts.body_selection_frames if opts.body == "auto" else 0)
     return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
             "found": found / max(n, 1), "ms_per_camera_frame": float(np.median(ms[1:])),
-            "frames": n}
+            "ms_after_startup": float(np.median(ms[skip:])),
+            "ms_startup": float(np.median(ms[1:skip])) if skip > 1 else float("nan"),
+            "ms_max_after_startup": float(np.max(ms[skip:])),
+            "body": tracker.body_name, "frames": n}
 
 
 def real_video_lost(db, max_frames: int = 150) -> dict[str, float]:  # type: ignore[no-untyped-def]
@@ -95,7 +101,7 @@ def real_video_lost(db, max_frames: int = 150) -> dict[str, float]:  # type: ign
             if not ok:
                 break
             h = int(round(640 * frame.shape[0] / frame.shape[1]))
-            img = cv2.cvtColor(cv2.resize(frame, (640, h)), cv2.COLOR_BGR2RGB)
+            img = np.asarray(cv2.cvtColor(cv2.resize(frame, (640, h)), cv2.COLOR_BGR2RGB), np.uint8)
             if tracker is None:
                 cam = Camera.from_fov("cam0", 640, h, 60.0)
                 tracker = create_colorshirt_tracker(ColorShirtOptions(), (cam,), database=db)
@@ -113,7 +119,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--work", default=str(Path.home() / ".cache" / "bodyplay" / "bench_captures"))
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--db-size", type=int, default=20_000)
-    ap.add_argument("--body", default="m", help="body preset of the tracker's generic skeleton")
+    ap.add_argument("--body", default="auto",
+                    help="body preset of the tracker's generic skeleton, or 'auto'")
     ap.add_argument("--quick", action="store_true", help="steady light, two clips")
     ap.add_argument("--lightings", default=",".join(LIGHTINGS))
     ap.add_argument("--clips", default=",".join(CLIPS))
@@ -133,7 +140,8 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     from bodyplay.body.skeleton import Skeleton
 
-    db = load_or_build_database(Skeleton.from_shape(args.body), DatabaseOptions(size=args.db_size),
+    db_body = "m" if args.body == "auto" else args.body
+    db = load_or_build_database(Skeleton.from_shape(db_body), DatabaseOptions(size=args.db_size),
                                 progress=True)
     cpu = platform.processor() or platform.machine()
     print(f"# colorshirt benchmark, {datetime.date.today()}, {cpu}, {os.cpu_count()} cpus, "
@@ -160,9 +168,14 @@ def main(argv: list[str] | None = None) -> int:
                 ms = float(np.median([p["ms_per_camera_frame"] for p in per]))
                 rows.append((lighting, name, ncam, mp, fd, ms))
                 each = ", ".join(f"{p['mpjpe_cm']:.1f}" for p in per)
+                ms2 = float(np.median([p["ms_after_startup"] for p in per]))
+                mx = float(np.max([p["ms_max_after_startup"] for p in per]))
+                su = float(np.median([p["ms_startup"] for p in per]))
+                bodies = ", ".join(str(p["body"]) for p in per)
                 print(f"{lighting:12s} {name:15s} cams={ncam}  MPJPE {mp:5.2f} cm  "
                       f"found {100 * fd:5.1f}%  {ms:5.1f} ms/camera-frame  "
-                      f"(per clip: {each})", flush=True)
+                      f"(after start-up {ms2:.1f}, max {mx:.1f}; start-up {su:.0f})  "
+                      f"(per clip: {each}; body {bodies})", flush=True)
     results["rows"] = [dict(zip(("lighting", "config", "cameras", "mpjpe_cm", "found",
                                  "ms_per_camera_frame"), r, strict=True)) for r in rows]
     if not args.no_real and (DATA / "video").exists():

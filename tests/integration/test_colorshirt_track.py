@@ -43,7 +43,9 @@ def test_track_writes_upper_body_poses_close_to_the_truth(tmp_path: Path, capsys
                  "--db-size", "4000", "--cache", str(tmp_path / "cache"),
                  "--overlay", str(overlay)])
     assert code == 0
-    assert "tracked 31 frame sets" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "tracked 31 frame sets" in printed
+    assert "body preset: " in printed and "chosen on the first frames" in printed
     first = json.loads(out.read_text().splitlines()[0])
     assert set(first) >= {"frame", "t", "joints", "state", "ms"}
     assert first["joints"]["l_knee"] is None and first["state"]["l_knee"] == "lost"

@@ -42,7 +42,9 @@ def register(subparsers: Any) -> None:
     cs.add_argument("--db-size", type=int, default=20_000, help="poses in the database")
     cs.add_argument("--cache", help="database cache folder (default ~/.cache/bodyplay)")
     cs.add_argument("--color-model", help="color model JSON from `bodyplay colors fit`")
-    cs.add_argument("--body", default="m", help="body preset of the generic skeleton")
+    cs.add_argument("--body", default="auto",
+                    help="body preset of the generic skeleton, or 'auto' (default): "
+                         "chosen among all presets on the first frames")
     p.set_defaults(func=run)
 
 
@@ -140,4 +142,8 @@ def run(args: argparse.Namespace) -> int:
     med = float(np.median(ms)) if ms else float("nan")
     print(f"tracked {n} frame sets with {args.tracker}: pose found in {found}, "
           f"median {med:.1f} ms per frame set; wrote {args.out}")
+    body = getattr(tracker, "body_name", None)
+    if body is not None:
+        how = "chosen on the first frames" if args.body == "auto" else "as requested"
+        print(f"body preset: {body} ({how})")
     return 0

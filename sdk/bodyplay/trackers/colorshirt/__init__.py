@@ -15,6 +15,7 @@ from pathlib import Path
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.bodyselect import build_body_models
 from bodyplay.trackers.colorshirt.colors import ColorModel, default_color_model
 from bodyplay.trackers.colorshirt.database import (
     DatabaseOptions,
@@ -45,7 +46,9 @@ def create_colorshirt_tracker(
     """Validate the options and cameras and build a ready tracker.
 
     The pose database is loaded from the cache (built on first use, which takes
-    about a minute per 20,000 poses) unless ``database`` is given.
+    about a minute per 20,000 poses) unless ``database`` is given. With
+    ``body="auto"`` the database is the reference body's (``m``) and every preset
+    is built as a candidate.
     """
     opts = options or ColorShirtOptions()
     cams = tuple(cameras)
@@ -53,7 +56,8 @@ def create_colorshirt_tracker(
         raise ConfigError(
             f"the color-shirt tracker needs 1 to 4 calibrated cameras, got {len(cams)}"
         )
-    skeleton = Skeleton.from_shape(opts.body)
+    # "auto": the database and the first frames use the reference body ``m``
+    skeleton = Skeleton.from_shape("m" if opts.body == "auto" else opts.body)
     if database is None:
         cache = Path(opts.database_cache) if opts.database_cache else None
         database = load_or_build_database(
@@ -69,4 +73,5 @@ def create_colorshirt_tracker(
         prior = PriorModel.from_dict(json.loads(p.read_text()))
     else:
         prior = default_prior_model()
-    return ColorShirtTracker(opts, cams, database, model, prior, skeleton)
+    bodies = build_body_models(cams) if opts.body == "auto" else None
+    return ColorShirtTracker(opts, cams, database, model, prior, skeleton, bodies)

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt.locate import LocateOptions
 
@@ -37,7 +38,10 @@ class ColorShirtOptions:
       as seeing the shirt (else the frame is lost).
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
-    * ``body``: body-shape preset of the generic skeleton and mesh.
+    * ``body``: body-shape preset of the generic skeleton and mesh (a name of
+      ``BODY_SHAPES``), or ``"auto"``: every preset is fitted on the first
+      ``body_selection_frames`` frames with a pose and the one whose patch anchors
+      reproject best is kept.
     """
 
     adaptive_white_balance: bool = True
@@ -63,7 +67,8 @@ class ColorShirtOptions:
     initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
     color_model: str | None = None
     prior_model: str | None = None
-    body: str = "m"
+    body: str = "auto"
+    body_selection_frames: int = 20
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -85,6 +90,11 @@ class ColorShirtOptions:
             raise ConfigError("min_colors must be between 1 and 10")
         if not 0 < self.max_mismatch <= 1:
             raise ConfigError("max_mismatch must be within (0, 1]")
+        if self.body != "auto" and self.body not in BODY_SHAPES:
+            raise ConfigError(f"unknown body preset {self.body!r}; choose 'auto' or one of "
+                              f"{', '.join(BODY_SHAPES)}")
+        if not 1 <= self.body_selection_frames <= 300:
+            raise ConfigError("body_selection_frames must be between 1 and 300")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):

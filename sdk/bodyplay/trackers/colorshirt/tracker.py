@@ -17,6 +17,7 @@ the tracker never invents a pose.
 
 from __future__ import annotations
 
+import copy
 import time
 from dataclasses import dataclass, field
 
@@ -32,6 +33,11 @@ from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError, TimestampError
 from bodyplay.trackers.base import JointState, TrackerCapabilities, TrackResult, lost_result
+from bodyplay.trackers.colorshirt.bodyselect import (
+    BodyModel,
+    BodySelection,
+    reprojection_residual,
+)
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.database import (
     PoseDatabase,
@@ -82,6 +88,17 @@ class _CameraState:
 
 
 @dataclass(eq=False)
+class _Fit:
+    """One body's fit of a frame: pose, anchored patches, mean relative residual."""
+
+    q: NDArray[np.float64]
+    seen: set[int]
+    residual: float
+    views: list[CameraView]
+    rendered: list[RenderedPose]
+
+
+@dataclass(eq=False)
 class CameraView:
     """One camera's share of a frame: crop, classification and database match."""
 
@@ -116,6 +133,7 @@ class ColorShirtTracker:
         color_model: ColorModel,
         prior: PriorModel,
         skeleton: Skeleton,
+        bodies: dict[str, BodyModel] | None = None,
     ) -> None:
         self.options = options
         self.cameras = cameras
@@ -125,10 +143,14 @@ class ColorShirtTracker:
         self.database = database
         self.color_model = color_model
         self.prior = prior
-        self.skeleton = skeleton
         self.locator = ShirtLocator(options.locate)
-        self.renderer = PoseRenderer(skeleton)
-        self.solver = KinematicSolver(skeleton, cameras)
+        self._bodies = dict(bodies) if bodies else {}
+        """Candidate body presets (``body="auto"``); empty: the fixed ``skeleton``."""
+        self._reference = "m"
+        """The preset reported while the start-up frames choose (the database's)."""
+        self._fixed = self._bodies.get(self._reference) or BodyModel(
+            options.body, skeleton, PoseRenderer(skeleton), KinematicSolver(skeleton, cameras))
+        self._use(self._fixed)
         self._canonical = canonical_camera()
         self._undistort = [self._undistort_maps(c) for c in cameras]
         self.reset()
@@ -148,9 +170,26 @@ class ColorShirtTracker:
                 st.references.add(st.W)
         self._prev: NDArray[np.float64] | None = None
         self._last_t: float | None = None
+        self._selection: BodySelection | None = None
+        if self._bodies:
+            self._selection = BodySelection(tuple(self._bodies),
+                                            self.options.body_selection_frames)
+            self._use(self._bodies.get(self._reference, next(iter(self._bodies.values()))))
         self.diagnostics: dict[str, object] = {}
         """Intermediate results of the last frame (blended pose, observed centroids),
         for training the IK priors and for debugging."""
+
+    def _use(self, body: BodyModel) -> None:
+        """Make ``body`` the skeleton, mesh and solver of the fits that follow."""
+        self.body = body
+        self.skeleton = body.skeleton
+        self.renderer = body.renderer
+        self.solver = body.solver
+
+    @property
+    def body_name(self) -> str:
+        """Name of the body preset in use (the reference ``m`` while choosing)."""
+        return self.body.name
 
     @staticmethod
     def _undistort_maps(cam: Camera) -> tuple[NDArray[np.float32], NDArray[np.float32]] | None:
@@ -478,12 +517,57 @@ class ColorShirtTracker:
         if not views:
             self._prev = None
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
-        q, observed_patches = self._estimate(views)
-        if not self._plausible(q, views):
+        fit: _Fit | None
+        if self._selection is not None and self._selection.chosen is None:
+            fit = self._select_body(views)
+        else:
+            fit = self._estimate(views, self._prev)
+            if fit is not None and not self._plausible(fit.q, fit.views):
+                fit = None
+        self.diagnostics["body"] = self.body_name
+        if self._selection is not None:
+            self.diagnostics["body_residuals"] = self._selection.means()
+        if fit is None:
             self._prev = None
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
-        self._prev = q
-        return self._result(frames, q, observed_patches, views, t0)
+        if self.options.adaptive_white_balance:
+            for v, r in zip(fit.views, fit.rendered, strict=True):
+                self._refit_white_balance(v, r)
+        self._prev = fit.q
+        return self._result(frames, fit.q, fit.seen, fit.views, t0)
+
+    def _select_body(self, views: list[CameraView]) -> _Fit | None:
+        """Start-up: fit every candidate preset, keep the one reprojecting best.
+
+        Each candidate works on its own copies of the views (the pose-assisted
+        reclassification rewrites them) with its own previous pose. Until the choice
+        is made the frame's result is the reference body's fit (one or two frames,
+        above all with one camera, say little about size); on the deciding frame it
+        is the chosen body's.
+        """
+        sel = self._selection
+        assert sel is not None
+        fits: dict[str, tuple[_Fit, dict[str, object]]] = {}
+        residuals: dict[str, float] = {}
+        for name, body in self._bodies.items():
+            self._use(body)
+            self.diagnostics = {}
+            fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name))
+            if not self._plausible(fit.q, fit.views):
+                sel.previous[name] = None
+                continue
+            sel.previous[name] = fit.q
+            fits[name] = (fit, self.diagnostics)
+            residuals[name] = fit.residual
+        sel.add(residuals)
+        best = sel.chosen or (self._reference if self._reference in self._bodies
+                              else sel.best())
+        self._use(self._bodies[best])
+        if best not in fits:
+            self.diagnostics = {}
+            return None
+        fit, self.diagnostics = fits[best]
+        return fit
 
     def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
         """Whether an estimate can be reported: in front of every camera that saw the
@@ -503,7 +587,9 @@ class ColorShirtTracker:
         q_b = self.diagnostics.get("q_blend")
         return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
 
-    def _estimate(self, views: list[CameraView]) -> tuple[NDArray[np.float64], set[int]]:
+    def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None
+                  ) -> _Fit:
+        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame."""
         o = self.options
         if len(views) > 1 and o.multiview_lookup:
             q_b = self._multiview_blend(views)
@@ -527,7 +613,7 @@ class ColorShirtTracker:
                                         in zip(views, observed, strict=True)]
         q = q_b
         prior = self.prior if o.pose_prior else None
-        prev = self._prev if o.pose_prior else None
+        prev = prev_q if o.pose_prior else None
         for round_ in range(o.ik_rounds):
             if len(anchors) < 3:
                 break
@@ -538,10 +624,11 @@ class ColorShirtTracker:
                         for v in views]
             if round_ + 1 < o.ik_rounds:
                 anchors = self._anchors(q, views, rendered, observed)
-        if o.adaptive_white_balance:
-            for v, r in zip(views, rendered, strict=True):
-                self._refit_white_balance(v, r)
-        return q, {int(p) for p in anchors.patch}
+        size = {v.index: v.shirt_scale / v.window.scale for v in views}
+        size_px = np.array([size[int(c)] for c in anchors.camera], dtype=np.float64)
+        resid = reprojection_residual(self.solver, q, anchors, size_px)
+        self.diagnostics["residual"] = resid
+        return _Fit(q, {int(p) for p in anchors.patch}, resid, views, rendered)
 
     def _result(self, frames: FrameSet, q: NDArray[np.float64], seen: set[int],
                 views: list[CameraView], t0: float) -> TrackResult:

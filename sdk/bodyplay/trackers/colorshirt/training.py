@@ -49,7 +49,7 @@ def collect_training_data(
         opts = make_synthetic_camera_options(cameras=cameras, lighting=lighting, seed=seed + i)
         with SyntheticCamera(opts, clip) as cam:
             tracker = create_colorshirt_tracker(
-                ColorShirtOptions(database_size=database_size), cam.cameras
+                ColorShirtOptions(database_size=database_size, body="m"), cam.cameras
             )
             seq_t, seq_b, seq_e = [], [], []
             for sf in cam.from_clip(seconds=seconds):

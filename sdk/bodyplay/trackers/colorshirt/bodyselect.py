@@ -1,0 +1,107 @@
+"""Choosing the body-size preset at start-up (``ColorShirtOptions(body="auto")``).
+
+The silhouette paper picks its body model among several sizes; here every preset of
+:data:`bodyplay.body.shapes.BODY_SHAPES` is fitted (6-DOF + IK with its own skeleton
+and generic mesh) on the first frames where the shirt is found, and the preset whose
+patch anchors reproject closest to the observed patch centroids (the IK data term,
+in units of the shirt's size in the image so every preset is judged on the same
+scale) wins. The pose database stays the reference body's: it only supplies joint
+angles, retrieved from normalized crops.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.shapes import BODY_SHAPES
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors
+from bodyplay.trackers.colorshirt.prediction import PoseRenderer
+
+__all__ = ["BodyModel", "BodySelection", "build_body_models", "reprojection_residual"]
+
+
+@dataclass(frozen=True, eq=False)
+class BodyModel:
+    """Everything of one body preset the per-frame fit needs (built once, cached)."""
+
+    name: str
+    skeleton: Skeleton
+    renderer: PoseRenderer
+    solver: KinematicSolver
+
+    @classmethod
+    def build(cls, name: str, cameras: tuple[Camera, ...],
+              skeleton: Skeleton | None = None) -> BodyModel:
+        """Skeleton, mesh renderer and IK solver of preset ``name`` for ``cameras``."""
+        sk = skeleton if skeleton is not None else Skeleton.from_shape(name)
+        return cls(name, sk, PoseRenderer(sk), KinematicSolver(sk, cameras))
+
+
+def build_body_models(cameras: tuple[Camera, ...],
+                      names: tuple[str, ...] | None = None) -> dict[str, BodyModel]:
+    """A :class:`BodyModel` for every named preset (default: all shipped presets)."""
+    return {n: BodyModel.build(n, cameras) for n in (names or tuple(BODY_SHAPES))}
+
+
+def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
+                          anchors: PatchAnchors, size_px: NDArray[np.float64]) -> float:
+    """Mean distance between projected anchors and observed centroids at pose ``q``.
+
+    ``size_px`` (A,) is the shirt's size in the image of each anchor's camera: the
+    distances are relative to it, independent of the candidate body's own size.
+    """
+    if len(anchors) == 0:
+        return float("nan")
+    proj = solver.project(q, anchors)[0]
+    return float(np.mean(np.linalg.norm(proj - anchors.target, axis=1) / size_px))
+
+
+@dataclass
+class BodySelection:
+    """Running mean residual of each candidate preset over the start-up frames.
+
+    ``frames`` is how many frames with a fit decide; ``previous`` holds each
+    candidate's last pose (its own temporal prior while the candidates run side by
+    side); ``chosen`` is set once the frames are in.
+    """
+
+    names: tuple[str, ...]
+    frames: int
+    sums: dict[str, float] = field(default_factory=dict)
+    counts: dict[str, int] = field(default_factory=dict)
+    previous: dict[str, NDArray[np.float64] | None] = field(default_factory=dict)
+    seen: int = 0
+    chosen: str | None = None
+
+    def add(self, residuals: dict[str, float]) -> None:
+        """Record one frame's residual per candidate (NaN: the candidate failed)."""
+        self.seen += 1
+        for n in self.names:
+            r = residuals.get(n, float("nan"))
+            if np.isfinite(r):
+                self.sums[n] = self.sums.get(n, 0.0) + r
+                self.counts[n] = self.counts.get(n, 0) + 1
+        if self.seen >= self.frames and self.counts:
+            self.chosen = self.best()
+
+    def mean(self, name: str) -> float:
+        """Mean residual of a candidate so far (inf before it has any)."""
+        c = self.counts.get(name, 0)
+        return self.sums[name] / c if c else float("inf")
+
+    def best(self) -> str:
+        """The candidate with the lowest mean residual among those fitted most often."""
+        most = max(self.counts.values(), default=0)
+        pool = [n for n in self.names if self.counts.get(n, 0) >= max(1, most // 2)]
+        if not pool:
+            return self.names[0]
+        return min(pool, key=self.mean)
+
+    def means(self) -> dict[str, float]:
+        """Mean residual of every candidate (for the diagnostics)."""
+        return {n: self.mean(n) for n in self.names}

@@ -1,0 +1,89 @@
+"""Specifications of the start-up body-preset choice (``ColorShirtOptions(body="auto")``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from colorshirt_paint import clutter
+
+from bodyplay.body import Skeleton
+from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shirt import patch_colors_rgb
+from bodyplay.capture.camera import Camera, look_at
+from bodyplay.capture.frames import Frame, FrameSet
+from bodyplay.errors import ConfigError
+from bodyplay.motion import sample_poses
+from bodyplay.render.idmap import render_idmaps
+from bodyplay.trackers.colorshirt import (
+    ColorShirtOptions,
+    DatabaseOptions,
+    create_colorshirt_tracker,
+)
+from bodyplay.trackers.colorshirt.database import build_database
+
+REF = Skeleton.from_shape("m")
+
+
+def _cams() -> tuple[Camera, ...]:
+    out = []
+    for i, x in enumerate((-0.6, 0.7)):
+        R, t = look_at((x, 1.35, 2.8), (0, 1.15, 0))
+        out.append(Camera.from_fov(f"cam{i}", 640, 480, 60, R, t))
+    return tuple(out)
+
+
+@pytest.fixture(scope="module")
+def db():  # type: ignore[no-untyped-def]
+    poses = sample_poses(REF, 2000, np.random.default_rng(0), yaw_range=(-1.3, 1.3))
+    return build_database(REF, DatabaseOptions(size=2000), poses)
+
+
+def _capture(shape: str, n: int, cams: tuple[Camera, ...]) -> list[FrameSet]:
+    """``n`` frame sets of a person of preset ``shape`` moving from one pose to another."""
+    sk = Skeleton.from_shape(shape)
+    mesh = body_mesh(sk)
+    q0, q1 = sample_poses(sk, 2, np.random.default_rng(5), mode="clips",
+                          yaw_range=(-0.4, 0.4), blend_share=0.0)
+    fid = np.where(mesh.face_part > 0, mesh.face_part, 21).astype(np.uint8)
+    pal = np.zeros((256, 3), float)
+    pal[:21] = patch_colors_rgb()
+    pal[21] = (222, 171, 140)
+    rng = np.random.default_rng(3)
+    backgrounds = [clutter(480, 640, rng).astype(float) for _ in cams]
+    out = []
+    for i in range(n):
+        a = i / max(n - 1, 1)
+        q = (1 - a) * q0 + a * q1
+        frames = []
+        for k, cam in enumerate(cams):
+            ids = render_idmaps(mesh.pose(sk, q)[None], mesh.faces, fid, cam)[0]
+            img = backgrounds[k].copy()
+            on = ids > 0
+            img[on] = pal[ids[on]] * rng.uniform(0.85, 1.0, (on.sum(), 1))
+            img += rng.normal(0, 3, img.shape)
+            frames.append(Frame(np.clip(img, 0, 255).astype(np.uint8), i / 30.0, i, f"cam{k}"))
+        out.append(FrameSet(tuple(frames), i / 30.0, i))
+    return out
+
+
+def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: ignore[no-untyped-def]
+    cams = _cams()
+    tr = create_colorshirt_tracker(
+        ColorShirtOptions(body="auto", body_selection_frames=4, background_subtraction=False),
+        cams, database=db)
+    assert tr.body_name == "m"  # the reference body until the start-up frames are in
+    results = [tr.process(fs) for fs in _capture("xs", 5, cams)]
+    assert all(r.found for r in results)
+    assert tr.body_name in {"xs", "s"}
+    assert tr.diagnostics["body"] == tr.body_name
+    means = tr.diagnostics["body_residuals"]
+    assert isinstance(means, dict) and min(means, key=means.__getitem__) == tr.body_name
+    assert means["xs"] < means["xl"] < means["xxl"]
+
+
+def test_body_option_rejects_unknown_preset_names() -> None:
+    with pytest.raises(ConfigError, match="unknown body preset"):
+        ColorShirtOptions(body="giant")
+    with pytest.raises(ConfigError):
+        ColorShirtOptions(body="auto", body_selection_frames=0)
+    assert ColorShirtOptions(body="auto").body == "auto"
