@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
 from bodyplay.errors import ConfigError, TimestampError
 from bodyplay.events.types import ContactEvent, Event, PoseEvent
+from bodyplay.physics.contacts import ContactBook, Key, Pending, sort_key
 from bodyplay.physics.options import (
     PART_NAMES,
     PART_SPECS,
@@ -51,10 +52,7 @@ PART_COLLISION_TYPE = 0xB0D7
 
 _PART_GROUP = pymunk.ShapeFilter(group=PART_COLLISION_TYPE)  # parts never collide together
 _POINT_INDEX = {n: i for i, n in enumerate(POINT_NAMES)}
-_PART_ORDER = {n: i for i, n in enumerate(PART_NAMES)}
 _HANDS = (("l_hand", "l_wrist", "l_elbow"), ("r_hand", "r_wrist", "r_elbow"))
-
-Key = tuple[str, str]  # (part, object name)
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,20 +79,8 @@ class _Part:
     nxt: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
 
 
-@dataclass(eq=False)
-class _Touch:
-    began: bool = False
-    impulse: float = 0.0
-    begin_uv: tuple[float, float] | None = None
-    end_uv: tuple[float, float] | None = None
 
-
-@dataclass(eq=False)
-class _Pending:
-    touches: dict[Key, _Touch] = field(default_factory=dict)
-
-
-class PhysicsWorld:
+class PhysicsWorld(ContactBook):
     """A pymunk space with the player's body parts as kinematic colliders.
 
     Feed it poses with :meth:`on_pose` (``attach_physics`` subscribes it to a
@@ -138,7 +124,7 @@ class PhysicsWorld:
         self._objects: dict[str, PhysicsObject] = {}
         self._counts: dict[Key, int] = {}
         self._active: set[Key] = set()
-        self._pending = _Pending()
+        self._pending = Pending()
         self._begin_uv: dict[Key, tuple[float, float] | None] = {}
         self._graveyard: list[pymunk.Shape] = []
         self._dirty = False
@@ -269,7 +255,7 @@ class PhysicsWorld:
     @property
     def contacts(self) -> tuple[Key, ...]:
         """The (part, object) pairs touching now (begun and not ended), sorted."""
-        return tuple(sorted(self._active, key=_sort_key))
+        return tuple(sorted(self._active, key=sort_key))
 
     # ---- poses -----------------------------------------------------------------------
     def on_pose(self, event: PoseEvent) -> None:
@@ -431,125 +417,7 @@ class PhysicsWorld:
                 p.pos, p.angle, p.length = (p.nxt[0], p.nxt[1]), p.nxt[2], p.nxt[3]
             self._flush(t)
 
-    # ---- contacts --------------------------------------------------------------------
-    def _key(self, arbiter: pymunk.Arbiter) -> tuple[Key, pymunk.Shape, pymunk.Shape] | None:
-        a, b = arbiter.shapes
-        part = self._shape_part.get(a)
-        other = b
-        if part is None:
-            part, other = self._shape_part.get(b), a
-            if part is None:
-                return None
-        obj = self._shape_obj.get(other)
-        if obj is None:
-            return None
-        return (part, obj), (a if other is b else b), other
-
-    def _on_begin(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
-        k = self._key(arbiter)
-        if k is None:
-            return
-        key = k[0]
-        n = self._counts.get(key, 0)
-        self._counts[key] = n + 1
-        touch = self._pending.touches.setdefault(key, _Touch())
-        if n == 0 and not touch.began:
-            touch.began = True
-            pts = arbiter.contact_point_set.points
-            if pts:
-                pa, pb = pts[0].point_a, pts[0].point_b
-                touch.begin_uv = (0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y))
-            else:
-                touch.begin_uv = _closest(k[1], k[2])
-
-    def _on_post_solve(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
-        if not self._pending.touches:
-            return
-        k = self._key(arbiter)
-        if k is None:
-            return
-        touch = self._pending.touches.get(k[0])
-        if touch is not None and touch.began:
-            touch.impulse += abs(arbiter.total_impulse)
-
-    def _on_separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
-        k = self._key(arbiter)
-        if k is None:
-            return
-        key = k[0]
-        n = self._counts.get(key, 0)
-        if n <= 0:
-            return
-        if n == 1:
-            del self._counts[key]
-        else:
-            self._counts[key] = n - 1
-        self._pending.touches.setdefault(key, _Touch()).end_uv = _closest(k[1], k[2])
-
-    def _flush(self, t: float) -> None:
-        """Emit the contacts that began or ended since the last flush (ends first, then
-        begins, each sorted by part and object). Game callbacks may remove objects
-        meanwhile: their ends are emitted in a further round of the same flush."""
-        if self._flushing or self._stepping or not (self._pending.touches or self._dirty):
-            return
-        self._flushing = True
-        try:
-            while self._pending.touches or self._dirty:
-                if self._pending.touches:
-                    self._flush_round(t)
-                else:
-                    self._sweep(t)
-        finally:
-            self._flushing = False
-
-    def _flush_round(self, t: float) -> None:
-        touches = self._pending.touches
-        self._pending = _Pending()
-        ends: list[Key] = []
-        begins: list[Key] = []
-        transient: list[Key] = []
-        for key, touch in touches.items():
-            live = key in self._counts
-            was = key in self._active
-            if was and not live:
-                ends.append(key)
-            elif live and not was:
-                begins.append(key)
-            elif touch.began and not live and not was:
-                transient.append(key)
-        for key in sorted(ends, key=_sort_key):
-            self._end(t, key, touches[key].end_uv)
-        for key in sorted(begins, key=_sort_key):
-            self._active.add(key)
-            self._begin_uv[key] = touches[key].begin_uv
-            self._send(t, key, "begin", touches[key].begin_uv, touches[key].impulse)
-        for key in sorted(transient, key=_sort_key):
-            touch = touches[key]
-            self._send(t, key, "begin", touch.begin_uv, touch.impulse)
-            self._send(t, key, "end", touch.end_uv, 0.0)
-
-    def _end(self, t: float, key: Key, uv: tuple[float, float] | None) -> None:
-        self._active.discard(key)
-        self._counts.pop(key, None)
-        begin_uv = self._begin_uv.pop(key, None)
-        self._send(t, key, "end", uv if uv is not None else begin_uv, 0.0)
-
-    def _sweep(self, t: float) -> None:
-        """After a removal: forget the names of removed shapes and end any contact
-        whose part or object is gone but that pymunk did not separate."""
-        self._dirty = False
-        if self._stepping:
-            return
-        live_shapes = set(self.space.shapes)
-        for shape in self._graveyard:
-            if shape not in live_shapes:
-                self._shape_obj.pop(shape, None)
-        self._graveyard = [s for s in self._graveyard if s in live_shapes]
-        enabled = {n for n, p in self._parts.items() if p.enabled}
-        for key in sorted(self._active, key=_sort_key):
-            if key[0] not in enabled or key[1] not in self._objects:
-                self._end(t, key, None)
-
+    # ---- contact events ------------------------------------------------------------
     def _send(self, t: float, key: Key, phase: str, uv: tuple[float, float] | None,
               impulse: float) -> None:
         if self._emit is None:
@@ -611,17 +479,6 @@ def _vec(value: ArrayLike, what: str) -> tuple[float, float]:
         raise ConfigError(f"{what} must be two finite numbers (u, v) in the plane, got {value!r}")
     return float(v[0]), float(v[1])
 
-
-def _closest(part: pymunk.Shape, other: pymunk.Shape) -> tuple[float, float]:
-    """Where ``part``'s surface is nearest the other shape's body (a contact point
-    when pymunk gives none, e.g. once the shapes have parted)."""
-    body = other.body
-    q = part.point_query(body.position if body is not None else other.bb.center())
-    return float(q.point.x), float(q.point.y)
-
-
-def _sort_key(key: Key) -> tuple[int, str]:
-    return _PART_ORDER[key[0]], key[1]
 
 
 def attach_physics(session: Any, options: PhysicsOptions | None = None) -> PhysicsWorld:

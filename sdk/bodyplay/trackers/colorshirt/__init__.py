@@ -4,7 +4,8 @@ Build one with :func:`create_colorshirt_tracker`; it implements
 :class:`bodyplay.trackers.base.Tracker`. Modules: :mod:`.colors` (color model and
 classifier), :mod:`.whitebalance`, :mod:`.locate` (histogram search),
 :mod:`.database` (rendered pose database), :mod:`.prediction` (rendering the
-estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.tracker` (the pipeline).
+estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.views` (per-camera
+state, crop classification clean-up and query), :mod:`.tracker` (the pipeline).
 """
 
 from __future__ import annotations

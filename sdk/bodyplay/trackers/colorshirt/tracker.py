@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import copy
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS, UPPER_BODY
 from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
-from bodyplay.body.shirt import NUM_COLORS, PATCHES, SHIRT_COLORS
+from bodyplay.body.shirt import NUM_COLORS, PATCHES
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -55,6 +55,13 @@ from bodyplay.trackers.colorshirt.prediction import (
     RenderedPose,
     patch_stats,
 )
+from bodyplay.trackers.colorshirt.views import (
+    WHITE_ID,
+    CameraState,
+    CameraView,
+    clean_ids,
+    make_query,
+)
 from bodyplay.trackers.colorshirt.whitebalance import (
     ReferenceIlluminations,
     auto_white_balance,
@@ -64,7 +71,6 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
-_WHITE = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
 _TORSO = {p.id for p in PATCHES if p.bone in ("thorax", "lumbar")}
 _JOINT_PATCHES: dict[str, set[int]] = {
     "l_shoulder": {p.id for p in PATCHES if p.bone in ("l_clavicle", "l_shoulder")},
@@ -76,17 +82,6 @@ _JOINT_PATCHES: dict[str, set[int]] = {
 }
 
 
-@dataclass
-class _CameraState:
-    """What the tracker remembers per camera between frames."""
-
-    background: BackgroundMask
-    W: NDArray[np.float64] | None = None
-    references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
-    last_box: tuple[int, int, int, int] | None = None
-    last_fraction: float | None = None
-
-
 @dataclass(eq=False)
 class _Fit:
     """One body's fit of a frame: pose, anchored patches, mean relative residual."""
@@ -96,25 +91,6 @@ class _Fit:
     residual: float
     views: list[CameraView]
     rendered: list[RenderedPose]
-
-
-@dataclass(eq=False)
-class CameraView:
-    """One camera's share of a frame: crop, classification and database match."""
-
-    index: int
-    window: CropWindow
-    crop: NDArray[np.uint8]
-    mask: NDArray[np.bool_] | None
-    W: NDArray[np.float64]
-    ids: NDArray[np.uint8]
-    shirt_scale: float
-    query_scale: float = 1.0
-    query_offset: NDArray[np.float64] = field(default_factory=lambda: np.zeros(2))
-    query: NDArray[np.uint8] | None = None
-    distance: float = 1.0
-    neighbours: object | None = None
-    patch_ids: NDArray[np.uint8] | None = None
 
 
 class ColorShirtTracker:
@@ -160,7 +136,7 @@ class ColorShirtTracker:
         """Forget the previous pose, learned illuminations and backgrounds."""
         init = self.options.initial_white_balance
         self._cams = [
-            _CameraState(BackgroundMask(downscale=2),
+            CameraState(BackgroundMask(downscale=2),
                          references=ReferenceIlluminations(self.options.reference_distance))
             for _ in self.cameras
         ]
@@ -200,7 +176,7 @@ class ColorShirtTracker:
         return np.asarray(m1, np.float32), np.asarray(m2, np.float32)
 
     # ---- per camera: locate, classify, query -----------------------------------------
-    def _classify(self, st: _CameraState, crop: NDArray[np.uint8],
+    def _classify(self, st: CameraState, crop: NDArray[np.uint8],
                   mask: NDArray[np.bool_] | None, fg: NDArray[np.bool_]
                   ) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
         o = self.options
@@ -282,7 +258,7 @@ class ColorShirtTracker:
         if cmask is not None:
             fg &= cmask
         W, ids = self._classify(st, crop, cmask, fg)
-        ids = self._clean(ids)
+        ids = clean_ids(ids, self.options.blob_fraction)
         counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
         min_px = max(4, int(o.min_color_fraction * ids.size))
         if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
@@ -292,65 +268,13 @@ class ColorShirtTracker:
         hi = np.array([xs.max(), ys.max()], float) + 1.0
         extent = float(np.max(hi - lo))
         view = CameraView(i, window, crop, cmask, W, ids, extent)
-        ys, xs = np.nonzero((ids > 0) & (ids != _WHITE))
+        ys, xs = np.nonzero((ids > 0) & (ids != WHITE_ID))
         blo = window.to_image(np.array([xs.min(), ys.min()], float))
         bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
         pad = 0.15 * (bhi - blo).max()
         st.last_box = (int(blo[0] - pad), int(blo[1] - pad), int(bhi[0] + pad), int(bhi[1] + pad))
-        self._make_query(view, lo, hi)
+        make_query(view, self.database, lo, hi)
         return view
-
-    def _clean(self, ids: NDArray[np.uint8]) -> NDArray[np.uint8]:
-        """Keep the shirt-like blobs of a classification.
-
-        Speckle is opened away. Blobs are formed from the colored (non-white)
-        pixels, grown a little so a patch touches its neighbours; only blobs holding
-        at least two shirt colors count (dropping single-colored objects) and only
-        those not far smaller than the largest. White, which walls and mortar also
-        match, is kept only next to the kept blobs.
-        """
-        white = cv2.morphologyEx((ids == _WHITE).astype(np.uint8), cv2.MORPH_OPEN,
-                                 np.ones((2, 2), np.uint8))
-        core = cv2.morphologyEx(((ids > 0) & (ids != _WHITE)).astype(np.uint8), cv2.MORPH_OPEN,
-                                np.ones((3, 3), np.uint8))
-        grown = cv2.dilate(core, np.ones((5, 5), np.uint8))
-        n, labels = cv2.connectedComponents(grown, connectivity=8)
-        sel = core > 0
-        hist = np.bincount(labels[sel] * (NUM_COLORS + 1) + ids[sel],
-                           minlength=n * (NUM_COLORS + 1)).reshape(n, NUM_COLORS + 1)
-        area = hist.sum(axis=1)
-        n_colors = (hist[:, 1:] >= np.maximum(3, 0.03 * area)[:, None]).sum(axis=1)
-        valid = n_colors >= 2
-        valid[0] = False
-        if not valid.any():
-            return np.zeros_like(ids)
-        keep = valid & (area >= self.options.blob_fraction * area[valid].max())
-        kept = core * keep[labels].astype(np.uint8)
-        ys, xs = np.nonzero(core * (labels == np.argmax(np.where(valid, area, 0))))
-        r = max(2, int(0.05 * max(np.ptp(xs), np.ptp(ys))))
-        near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
-        keep_px = np.asarray(kept, np.uint8) | (np.asarray(white, np.uint8)
-                                                & np.asarray(near, np.uint8))
-        return (ids * keep_px).astype(np.uint8)
-
-    def _make_query(self, view: CameraView, lo: NDArray[np.float64],
-                    hi: NDArray[np.float64]) -> None:
-        """Normalize the classified crop like the database (bounding box, margin, 40x40)."""
-        db = self.database
-        n = db.options.map_size
-        extent = max(float(np.max(hi - lo)), 4.0)
-        s = n * (1.0 - 2.0 * db.options.margin) / extent
-        # crop pixel centres: bounding box of pixel areas [x - 0.5, x + 0.5]
-        centre = 0.5 * (lo + hi) - 0.5
-        off = (n - 1) / 2.0 - centre * s
-        M = np.array([[s, 0.0, off[0]], [0.0, s, off[1]]])
-        query = np.asarray(cv2.warpAffine(view.ids, M, (n, n), flags=cv2.INTER_NEAREST,
-                                          borderValue=0), np.uint8)
-        view.query = query
-        view.query_scale, view.query_offset = s, off
-        nb = db.query(query)
-        view.neighbours = nb
-        view.distance = float(nb.distance[0])
 
     # ---- pose estimation -------------------------------------------------------------
     def _place_entries(self, view: CameraView, pose: NDArray[np.float64],
@@ -463,7 +387,7 @@ class ColorShirtTracker:
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
         pen, owner = self.renderer.prior_penalty(rend, C, min_px)
         cls = self.color_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
-        ids = self._clean(cls.ids)
+        ids = clean_ids(cls.ids, self.options.blob_fraction)
         view.ids = ids
         k = ids.astype(np.int64) - 1
         yy, xx = np.nonzero(ids)

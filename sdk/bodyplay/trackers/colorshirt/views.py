@@ -1,0 +1,109 @@
+"""Per-camera state of the color-shirt tracker: what it remembers about each camera
+between frames (:class:`CameraState`), one camera's share of a frame
+(:class:`CameraView`: crop, classification, database query), the clean-up of a
+classification (:func:`clean_ids`) and the normalized database query
+(:func:`make_query`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
+from bodyplay.trackers.colorshirt.database import PoseDatabase
+from bodyplay.trackers.colorshirt.locate import BackgroundMask
+from bodyplay.trackers.colorshirt.prediction import CropWindow
+from bodyplay.trackers.colorshirt.whitebalance import ReferenceIlluminations
+
+__all__ = ["CameraState", "CameraView", "WHITE_ID", "clean_ids", "make_query"]
+
+WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
+"""The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
+
+
+@dataclass
+class CameraState:
+    """What the tracker remembers per camera between frames."""
+
+    background: BackgroundMask
+    W: NDArray[np.float64] | None = None
+    references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
+    last_box: tuple[int, int, int, int] | None = None
+    last_fraction: float | None = None
+
+
+@dataclass(eq=False)
+class CameraView:
+    """One camera's share of a frame: crop, classification and database match."""
+
+    index: int
+    window: CropWindow
+    crop: NDArray[np.uint8]
+    mask: NDArray[np.bool_] | None
+    W: NDArray[np.float64]
+    ids: NDArray[np.uint8]
+    shirt_scale: float
+    query_scale: float = 1.0
+    query_offset: NDArray[np.float64] = field(default_factory=lambda: np.zeros(2))
+    query: NDArray[np.uint8] | None = None
+    distance: float = 1.0
+    neighbours: object | None = None
+    patch_ids: NDArray[np.uint8] | None = None
+
+
+def clean_ids(ids: NDArray[np.uint8], blob_fraction: float) -> NDArray[np.uint8]:
+    """Keep the shirt-like blobs of a classification.
+
+    Speckle is opened away. Blobs are formed from the colored (non-white)
+    pixels, grown a little so a patch touches its neighbours; only blobs holding
+    at least two shirt colors count (dropping single-colored objects) and only
+    those not far smaller than the largest. White, which walls and mortar also
+    match, is kept only next to the kept blobs.
+    """
+    white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
+                             np.ones((2, 2), np.uint8))
+    core = cv2.morphologyEx(((ids > 0) & (ids != WHITE_ID)).astype(np.uint8), cv2.MORPH_OPEN,
+                            np.ones((3, 3), np.uint8))
+    grown = cv2.dilate(core, np.ones((5, 5), np.uint8))
+    n, labels = cv2.connectedComponents(grown, connectivity=8)
+    sel = core > 0
+    hist = np.bincount(labels[sel] * (NUM_COLORS + 1) + ids[sel],
+                       minlength=n * (NUM_COLORS + 1)).reshape(n, NUM_COLORS + 1)
+    area = hist.sum(axis=1)
+    n_colors = (hist[:, 1:] >= np.maximum(3, 0.03 * area)[:, None]).sum(axis=1)
+    valid = n_colors >= 2
+    valid[0] = False
+    if not valid.any():
+        return np.zeros_like(ids)
+    keep = valid & (area >= blob_fraction * area[valid].max())
+    kept = core * keep[labels].astype(np.uint8)
+    ys, xs = np.nonzero(core * (labels == np.argmax(np.where(valid, area, 0))))
+    r = max(2, int(0.05 * max(np.ptp(xs), np.ptp(ys))))
+    near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
+    keep_px = np.asarray(kept, np.uint8) | (np.asarray(white, np.uint8)
+                                            & np.asarray(near, np.uint8))
+    return (ids * keep_px).astype(np.uint8)
+
+
+def make_query(view: CameraView, database: PoseDatabase, lo: NDArray[np.float64],
+               hi: NDArray[np.float64]) -> None:
+    """Normalize the classified crop like the database (bounding box, margin, 40x40)."""
+    db = database
+    n = db.options.map_size
+    extent = max(float(np.max(hi - lo)), 4.0)
+    s = n * (1.0 - 2.0 * db.options.margin) / extent
+    # crop pixel centres: bounding box of pixel areas [x - 0.5, x + 0.5]
+    centre = 0.5 * (lo + hi) - 0.5
+    off = (n - 1) / 2.0 - centre * s
+    M = np.array([[s, 0.0, off[0]], [0.0, s, off[1]]])
+    query = np.asarray(cv2.warpAffine(view.ids, M, (n, n), flags=cv2.INTER_NEAREST,
+                                      borderValue=0), np.uint8)
+    view.query = query
+    view.query_scale, view.query_offset = s, off
+    nb = db.query(query)
+    view.neighbours = nb
+    view.distance = float(nb.distance[0])
