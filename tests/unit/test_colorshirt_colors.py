@@ -97,3 +97,28 @@ def test_invalid_models_and_images_are_rejected() -> None:
         ColorModel(np.zeros((10, 3)), np.zeros((10, 3, 3)))
     with pytest.raises(ConfigError):
         srgb_color_model().classify(np.zeros((4, 4), np.uint8))
+
+
+def test_measurement_noise_widens_classes_only_where_white_balance_amplifies() -> None:
+    base = srgb_color_model(noise=4.0, shading=0.0)
+    noisy = ColorModel(base.means, base.covariances, measurement_noise=6.0)
+    identity = np.eye(3, dtype=np.float32)
+    assert np.allclose(noisy.effective_inverse(identity), base.effective_inverse(identity))
+    # a dark blue pixel whose blue channel was recorded 7 units off: after a 3x blue
+    # gain it lands 21 units from the mean, beyond T = 3 of the fitted covariance
+    W = np.diag([1.0, 1.0, 3.0]).astype(np.float32)
+    k = [c.name for c in SHIRT_COLORS].index("blue")
+    target = base.means[k]
+    raw = np.linalg.solve(W.astype(float), target) + np.array([0.0, 0.0, 7.0])
+    img = np.clip(np.round(raw), 0, 255).astype(np.uint8).reshape(1, 1, 3)
+    assert base.classify(img, W, 3.0).ids[0, 0] == 0
+    assert noisy.classify(img, W, 3.0).ids[0, 0] == k + 1
+    # gains below 1 never shrink a class
+    shrink = np.diag([0.5, 0.5, 0.5]).astype(np.float32)
+    assert np.allclose(noisy.effective_inverse(shrink), base.effective_inverse(shrink))
+
+
+def test_measurement_noise_must_be_non_negative() -> None:
+    base = srgb_color_model()
+    with pytest.raises(ConfigError, match="measurement_noise"):
+        ColorModel(base.means, base.covariances, measurement_noise=-1.0)

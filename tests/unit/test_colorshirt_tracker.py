@@ -74,8 +74,11 @@ def test_tracker_implements_the_protocol_and_reports_upper_body_only(db) -> None
     assert tr.capabilities.joints == UPPER_BODY and tr.capabilities.upper_body_only
 
 
-@pytest.mark.parametrize("ncam,limit_cm", [(2, 9.0), (1, 14.0)])
+@pytest.mark.parametrize("ncam,limit_cm", [(2, 5.0), (1, 5.0)])
 def test_tracker_finds_a_painted_shirt_pose(db, ncam, limit_cm) -> None:  # type: ignore[no-untyped-def]
+    """Two cameras find every pose; one camera most of them: a single view cannot
+    always tell an arm reaching forward from one reaching back (here one of the three
+    poses, seed 12, comes out mirrored in depth), so it is judged by the median."""
     rng = np.random.default_rng(1)
     cams = _cams(ncam)
     tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False), cams,
@@ -92,7 +95,8 @@ def test_tracker_finds_a_painted_shirt_pose(db, ncam, limit_cm) -> None:  # type
         errs.append(np.linalg.norm(r.joints[:11] - SK.joint_positions(q)[:11], axis=1).mean())
         rec = r.to_json()
         assert rec["joints"]["l_knee"] is None and rec["ms"] > 0  # type: ignore[index]
-    assert 100 * np.mean(errs) < limit_cm
+    worst_or_median = max(errs) if ncam > 1 else float(np.median(errs))
+    assert 100 * worst_or_median < limit_cm
 
 
 def test_tracker_reports_lost_without_a_shirt_and_never_invents_a_pose(db) -> None:  # type: ignore[no-untyped-def]
@@ -136,3 +140,9 @@ def test_options_and_factory_validate_their_inputs(db) -> None:  # type: ignore[
         ColorShirtOptions(initial_white_balance=((1.0, 0.0), (0.0, 1.0)))  # type: ignore[arg-type]
     with pytest.raises(ConfigError):
         create_colorshirt_tracker(ColorShirtOptions(), (), database=db)
+
+
+def test_options_reject_a_measurement_noise_that_lets_background_in() -> None:
+    with pytest.raises(ConfigError, match="measurement_noise"):
+        ColorShirtOptions(measurement_noise=20.0)
+    assert ColorShirtOptions(measurement_noise=0.0).measurement_noise == 0.0

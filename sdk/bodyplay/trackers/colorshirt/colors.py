@@ -117,8 +117,13 @@ class ColorModel:
 
     means: NDArray[np.float64]
     covariances: NDArray[np.float64]
+    measurement_noise: float = 0.0
+    """Std (RGB units) of the camera's own measurement error (noise, quantization,
+    compression) as the training images had it; see :meth:`effective_inverse`."""
 
     def __post_init__(self) -> None:
+        if not (np.isfinite(self.measurement_noise) and self.measurement_noise >= 0):
+            raise ConfigError("measurement_noise must be a finite value >= 0")
         m = np.asarray(self.means, dtype=np.float64)
         c = np.asarray(self.covariances, dtype=np.float64)
         if m.shape != (NUM_COLORS, 3) or c.shape != (NUM_COLORS, 3, 3):
@@ -164,6 +169,28 @@ class ColorModel:
     @cached_property
     def _linv(self) -> NDArray[np.float32]:
         L = np.linalg.cholesky(self.covariances)
+        return np.linalg.inv(L).astype(np.float32)
+
+    def effective_inverse(self, white_balance: NDArray[np.float32]) -> NDArray[np.float32]:
+        """Inverse Cholesky factors of the covariances seen through ``white_balance``.
+
+        The Gaussians were fitted to images that needed little correction. A strong
+        ``W`` (a blue gain of 3 in dim tungsten light) also amplifies the camera's
+        measurement error ``e``: a balanced pixel ``W (x + e)`` spreads by
+        ``W S W^T`` instead of ``S``, ``S = measurement_noise^2 I``. The difference,
+        where it is positive, is added to every color's covariance, so dark, strongly
+        corrected colors are not rejected merely for being noisy. (The paper uses the
+        fitted covariances as they are: ``measurement_noise = 0``.)
+        """
+        if self.measurement_noise <= 0:
+            return self._linv
+        W = np.asarray(white_balance, dtype=np.float64)
+        extra = self.measurement_noise**2 * (W @ W.T - np.eye(3))
+        w, v = np.linalg.eigh(extra)
+        extra = (v * np.maximum(w, 0.0)) @ v.T
+        if not np.any(extra):
+            return self._linv
+        L = np.linalg.cholesky(self.covariances + extra[None])
         return np.linalg.inv(L).astype(np.float32)
 
     @cached_property
@@ -214,7 +241,8 @@ class ColorModel:
         if use_pen and pen.shape != (h, w, NUM_COLORS):
             raise ConfigError(f"penalty must be {(h, w, NUM_COLORS)}, got {pen.shape}")
         ids, best = _classify_kernel(
-            img, W, self._means32, self._linv, float(threshold), m, use_mask, pen, use_pen
+            img, W, self._means32, self.effective_inverse(W), float(threshold), m, use_mask,
+            pen, use_pen
         )
         return Classification(ids, best)
 

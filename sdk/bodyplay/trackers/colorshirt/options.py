@@ -36,6 +36,11 @@ class ColorShirtOptions:
       classified blobs smaller than this fraction of the largest are dropped.
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
       as seeing the shirt (else the frame is lost).
+    * ``measurement_noise``: std (RGB units) of the camera's measurement error that
+      a strong white balance amplifies; the classifier widens every color's Gaussian
+      by the amplified part (beyond the paper, which uses the fitted covariances as
+      they are: 0). Measured on the benchmark: 6 cuts the dim-light error by a fifth;
+      10 and more let dark background into the dark colors under dim light.
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of
@@ -63,6 +68,7 @@ class ColorShirtOptions:
     min_colors: int = 4
     min_color_fraction: float = 0.002
     min_patch_fraction: float = 0.0015
+    measurement_noise: float = 6.0
     max_mismatch: float = 0.5
     initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
     color_model: str | None = None
@@ -93,6 +99,9 @@ class ColorShirtOptions:
         if self.body != "auto" and self.body not in BODY_SHAPES:
             raise ConfigError(f"unknown body preset {self.body!r}; choose 'auto' or one of "
                               f"{', '.join(BODY_SHAPES)}")
+        if not 0 <= self.measurement_noise <= 9:
+            raise ConfigError("measurement_noise must be within 0..9 RGB units (default 6; "
+                              "larger values let background into the dark shirt colors)")
         if not 1 <= self.body_selection_frames <= 300:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if self.initial_white_balance is not None:

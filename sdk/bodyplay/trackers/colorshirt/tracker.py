@@ -18,6 +18,7 @@ the tracker never invents a pose.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import time
 from dataclasses import dataclass
 
@@ -71,6 +72,9 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
+_MAX_NOISE_GROWTH = 2.5
+"""Most pixels the noise-aware classification may add, relative to the plain one."""
+
 _TORSO = {p.id for p in PATCHES if p.bone in ("thorax", "lumbar")}
 _JOINT_PATCHES: dict[str, set[int]] = {
     "l_shoulder": {p.id for p in PATCHES if p.bone in ("l_clavicle", "l_shoulder")},
@@ -118,6 +122,11 @@ class ColorShirtTracker:
         )
         self.database = database
         self.color_model = color_model
+        self._noise_model = (
+            dataclasses.replace(color_model, measurement_noise=options.measurement_noise)
+            if options.measurement_noise > 0 else color_model)
+        """The classifier: ``color_model`` with the W-amplified measurement noise
+        (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
         self.prior = prior
         self.locator = ShirtLocator(options.locate)
         self._bodies = dict(bodies) if bodies else {}
@@ -215,6 +224,13 @@ class ColorShirtTracker:
                     W, cls = auto.W, cls2
             st.W = W
         st.last_fraction = cls.fraction_classified(fg)
+        if self._noise_model is not self.color_model:
+            # W was chosen with the plain model (a looser one would favour large gains);
+            # the classification itself allows for the noise W amplifies, unless that
+            # more than doubles what the plain model found: background creeping in
+            wide = self._noise_model.classify(crop, W, o.threshold, mask)
+            if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
+                cls = wide
         return W, cls.ids
 
     def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
@@ -386,7 +402,7 @@ class ColorShirtTracker:
         C = o.prior_strength / max(view.shirt_scale, 1.0)
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
         pen, owner = self.renderer.prior_penalty(rend, C, min_px)
-        cls = self.color_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
+        cls = self._noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
         ids = clean_ids(cls.ids, self.options.blob_fraction)
         view.ids = ids
         k = ids.astype(np.int64) - 1
