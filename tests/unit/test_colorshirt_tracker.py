@@ -146,3 +146,29 @@ def test_options_reject_a_measurement_noise_that_lets_background_in() -> None:
     with pytest.raises(ConfigError, match="measurement_noise"):
         ColorShirtOptions(measurement_noise=20.0)
     assert ColorShirtOptions(measurement_noise=0.0).measurement_noise == 0.0
+
+
+def test_tracker_reports_lost_when_the_body_jumps_faster_than_a_person_moves(db) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(5)
+    cams = _cams(2)
+    tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False, body="m"),
+                                   cams, database=db)
+    q = _truth(11)
+    moved = q.copy()
+    moved[0] += 0.9  # 0.9 m sideways within one frame: 27 m/s
+    images = [_paint(q, cams, rng), _paint(moved, cams, rng)]
+
+    def frame(imgs: list[np.ndarray], t: float, i: int) -> FrameSet:
+        return FrameSet(tuple(Frame(im, t, i, f"cam{k}") for k, im in enumerate(imgs)), t, i)
+
+    assert tr.process(frame(images[0], 0.0, 0)).found
+    jumped = tr.process(frame(images[1], 1 / 30, 1))
+    assert not jumped.found and tr.diagnostics["rejected"] == "speed"
+    later = tr.process(frame(images[1], 1.5, 2))  # time enough to have walked there
+    assert later.found
+    assert abs(later.joints[0, 0] - SK.joint_positions(moved)[0, 0]) < 0.1
+
+
+def test_options_reject_a_non_positive_max_speed() -> None:
+    with pytest.raises(ConfigError, match="max_speed"):
+        ColorShirtOptions(max_speed=0.0)

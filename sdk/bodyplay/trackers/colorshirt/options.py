@@ -41,6 +41,9 @@ class ColorShirtOptions:
       by the amplified part (beyond the paper, which uses the fitted covariances as
       they are: 0). Measured on the benchmark: 6 cuts the dim-light error by a fifth;
       10 and more let dark background into the dark colors under dim light.
+    * ``max_speed``: fastest plausible root speed (m/s); a fit further than
+      ``0.25 m + max_speed * dt`` from the pose reported within the last second is
+      reported lost rather than as a jump across the room.
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of
@@ -69,6 +72,7 @@ class ColorShirtOptions:
     min_color_fraction: float = 0.002
     min_patch_fraction: float = 0.0015
     measurement_noise: float = 6.0
+    max_speed: float = 5.0
     max_mismatch: float = 0.5
     initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
     color_model: str | None = None
@@ -102,6 +106,8 @@ class ColorShirtOptions:
         if not 0 <= self.measurement_noise <= 9:
             raise ConfigError("measurement_noise must be within 0..9 RGB units (default 6; "
                               "larger values let background into the dark shirt colors)")
+        if not (np.isfinite(self.max_speed) and self.max_speed > 0):
+            raise ConfigError("max_speed must be a positive speed in m/s (default 5)")
         if not 1 <= self.body_selection_frames <= 300:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if self.initial_white_balance is not None:

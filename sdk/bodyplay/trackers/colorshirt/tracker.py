@@ -155,6 +155,8 @@ class ColorShirtTracker:
                 st.references.add(st.W)
         self._prev: NDArray[np.float64] | None = None
         self._last_t: float | None = None
+        self._reported: tuple[float, NDArray[np.float64]] | None = None
+        """Time and root position of the last pose reported (for the speed gate)."""
         self._selection: BodySelection | None = None
         if self._bodies:
             self._selection = BodySelection(tuple(self._bodies),
@@ -464,6 +466,15 @@ class ColorShirtTracker:
             fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
+        if fit is not None and not self._within_reach(frames.t, fit.q):
+            # not reported, but the pixels where its render and the classification
+            # agree still tell the new illumination (after a light switch this is
+            # how W catches up)
+            self.diagnostics["rejected"] = "speed"
+            if self.options.adaptive_white_balance:
+                for v, r in zip(fit.views, fit.rendered, strict=True):
+                    self._refit_white_balance(v, r)
+            fit = None
         self.diagnostics["body"] = self.body_name
         if self._selection is not None:
             self.diagnostics["body_residuals"] = self._selection.means()
@@ -474,7 +485,25 @@ class ColorShirtTracker:
             for v, r in zip(fit.views, fit.rendered, strict=True):
                 self._refit_white_balance(v, r)
         self._prev = fit.q
+        self._reported = (frames.t, fit.q[:3].copy())
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
+
+    def _within_reach(self, t: float, q: NDArray[np.float64]) -> bool:
+        """Whether the root is within reach of the last reported pose.
+
+        A person's pelvis does not cross the room between two frames: a fit whose
+        root lies further than ``0.25 m + max_speed * dt`` from the pose reported at
+        most a second ago is a wrong fit (a light switched off, the shirt half
+        unclassified) and the frame is reported lost instead.
+        """
+        if self._reported is None:
+            return True
+        t_prev, root = self._reported
+        dt = t - t_prev
+        if dt > 1.0:
+            return True
+        reach = 0.25 + self.options.max_speed * dt
+        return float(np.linalg.norm(q[:3] - root)) <= reach
 
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
         """Start-up: fit every candidate preset, keep the one reprojecting best.
