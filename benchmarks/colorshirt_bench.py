@@ -79,7 +79,8 @@ def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[st
                 errs.append(np.linalg.norm(r.joints[:11] - truth.joints[fs.index][:11], axis=1))
     e = np.array(errs)
     # with body="auto" the first frames fit every preset: time the rest separately
-    skip = 1 + (opts.body_selection_frames if opts.body == "auto" else 0)
+    skip = 1 + (opts.body_selection_frames + opts.arm_selection_frames + 1
+                if opts.body == "auto" else 0)
     return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
             "found": found / max(n, 1), "ms_per_camera_frame": float(np.median(ms[1:])),
             "ms_after_startup": float(np.median(ms[skip:])),

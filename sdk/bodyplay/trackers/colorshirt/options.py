@@ -49,7 +49,9 @@ class ColorShirtOptions:
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of
       ``BODY_SHAPES``), or ``"auto"``: every preset is fitted on the first
       ``body_selection_frames`` frames with a pose and the one whose patch anchors
-      reproject best is kept.
+      reproject best is kept; then its arm-length variants (``ARM_SCALES``, 0.84-1
+      times its arms) are compared the same way over ``arm_selection_frames``
+      frames (0 = keep the preset's arms).
     """
 
     adaptive_white_balance: bool = True
@@ -79,6 +81,7 @@ class ColorShirtOptions:
     prior_model: str | None = None
     body: str = "auto"
     body_selection_frames: int = 20
+    arm_selection_frames: int = 10
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -110,6 +113,8 @@ class ColorShirtOptions:
             raise ConfigError("max_speed must be a positive speed in m/s (default 5)")
         if not 1 <= self.body_selection_frames <= 300:
             raise ConfigError("body_selection_frames must be between 1 and 300")
+        if not 0 <= self.arm_selection_frames <= 300:
+            raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):

@@ -20,6 +20,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import time
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import cv2
@@ -37,6 +38,7 @@ from bodyplay.trackers.base import JointState, TrackerCapabilities, TrackResult,
 from bodyplay.trackers.colorshirt.bodyselect import (
     BodyModel,
     BodySelection,
+    arm_variants,
     reprojection_residual,
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
@@ -129,7 +131,8 @@ class ColorShirtTracker:
         (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
         self.prior = prior
         self.locator = ShirtLocator(options.locate)
-        self._bodies = dict(bodies) if bodies else {}
+        self._presets = dict(bodies) if bodies else {}
+        self._bodies = dict(self._presets)
         """Candidate body presets (``body="auto"``); empty: the fixed ``skeleton``."""
         self._reference = "m"
         """The preset reported while the start-up frames choose (the database's)."""
@@ -158,6 +161,10 @@ class ColorShirtTracker:
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
         self._selection: BodySelection | None = None
+        self._arm_stage: Future[dict[str, BodyModel]] | None = None
+        self._arm_stage_started = False
+        self._bodies = dict(self._presets)
+        self._reference = "m"
         if self._bodies:
             self._selection = BodySelection(tuple(self._bodies),
                                             self.options.body_selection_frames)
@@ -460,6 +467,7 @@ class ColorShirtTracker:
             self._prev = None
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
         fit: _Fit | None
+        self._start_arm_selection()
         if self._selection is not None and self._selection.chosen is None:
             fit = self._select_body(views)
         else:
@@ -537,6 +545,32 @@ class ColorShirtTracker:
             return None
         fit, self.diagnostics = fits[best]
         return fit
+
+    def _start_arm_selection(self) -> None:
+        """Second start-up stage: once the preset is chosen, its arm-length variants
+        (:data:`ARM_SCALES`) are built in a background thread, then compared like the
+        presets were over ``arm_selection_frames`` frames with a pose."""
+        n = self.options.arm_selection_frames
+        sel = self._selection
+        if n <= 0 or sel is None or sel.chosen is None:
+            return
+        if not self._arm_stage_started:
+            self._arm_stage_started = True
+            chosen = self._bodies[sel.chosen]
+            pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="colorshirt-arms")
+            self._arm_stage = pool.submit(arm_variants, chosen, self.cameras)
+            pool.shutdown(wait=False)
+            return
+        if self._arm_stage is None or not self._arm_stage.done():
+            return
+        variants = self._arm_stage.result()
+        self._arm_stage = None
+        previous = sel.previous.get(sel.chosen)
+        self._reference = sel.chosen
+        self._bodies = variants
+        self._selection = BodySelection(tuple(variants), n)
+        for name in variants:
+            self._selection.previous[name] = previous
 
     def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
         """Whether an estimate can be reported: in front of every camera that saw the
