@@ -19,6 +19,7 @@ from bodyplay.trackers.colorshirt import (
     DatabaseOptions,
     create_colorshirt_tracker,
 )
+from bodyplay.trackers.colorshirt.bodyselect import ARM_SCALES, arm_variants, with_arm_scale
 from bodyplay.trackers.colorshirt.database import build_database
 
 REF = Skeleton.from_shape("m")
@@ -38,9 +39,11 @@ def db():  # type: ignore[no-untyped-def]
     return build_database(REF, DatabaseOptions(size=2000), poses)
 
 
-def _capture(shape: str, n: int, cams: tuple[Camera, ...]) -> list[FrameSet]:
-    """``n`` frame sets of a person of preset ``shape`` moving from one pose to another."""
-    sk = Skeleton.from_shape(shape)
+def _capture(shape: str, n: int, cams: tuple[Camera, ...], arms: float = 1.0
+             ) -> list[FrameSet]:
+    """``n`` frame sets of a person of preset ``shape`` (arms ``arms`` times as long)
+    moving from one pose to another."""
+    sk = with_arm_scale(Skeleton.from_shape(shape), arms)
     mesh = body_mesh(sk)
     q0, q1 = sample_poses(sk, 2, np.random.default_rng(5), mode="clips",
                           yaw_range=(-0.4, 0.4), blend_share=0.0)
@@ -87,3 +90,34 @@ def test_body_option_rejects_unknown_preset_names() -> None:
     with pytest.raises(ConfigError):
         ColorShirtOptions(body="auto", body_selection_frames=0)
     assert ColorShirtOptions(body="auto").body == "auto"
+
+
+def test_with_arm_scale_changes_only_the_arm_bones() -> None:
+    short = with_arm_scale(REF, 0.9)
+    ratio = short.bone_lengths()[1:] / REF.bone_lengths()[1:]
+    names = REF.node_names[1:]
+    for name, r in zip(names, ratio, strict=True):
+        expected = 0.9 if name.split("_")[-1] in ("elbow", "wrist", "hand") else 1.0
+        assert r == pytest.approx(expected), name
+
+
+def test_arm_variants_keep_the_preset_itself_under_its_name() -> None:
+    from bodyplay.trackers.colorshirt.bodyselect import BodyModel
+
+    base = BodyModel.build("m", _cams())
+    variants = arm_variants(base, _cams(), (0.9, 1.0))
+    assert set(variants) == {"m", "m*0.90"} and variants["m"] is base
+    assert 1.0 in ARM_SCALES and min(ARM_SCALES) < 0.9
+
+
+def test_auto_body_then_finds_that_the_arms_are_short(db) -> None:  # type: ignore[no-untyped-def]
+    cams = _cams()
+    tr = create_colorshirt_tracker(
+        ColorShirtOptions(body="auto", body_selection_frames=3, arm_selection_frames=4,
+                          background_subtraction=False), cams, database=db)
+    for fs in _capture("m", 80, cams, arms=0.86):
+        assert tr.process(fs).found
+        if "*" in tr.body_name and tr._selection is not None and tr._selection.chosen:
+            break
+    assert "*" in tr.body_name, "the arm stage never finished"
+    assert float(tr.body_name.split("*")[1]) <= 0.92
