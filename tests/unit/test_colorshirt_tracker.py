@@ -172,3 +172,21 @@ def test_tracker_reports_lost_when_the_body_jumps_faster_than_a_person_moves(db)
 def test_options_reject_a_non_positive_max_speed() -> None:
     with pytest.raises(ConfigError, match="max_speed"):
         ColorShirtOptions(max_speed=0.0)
+
+
+def test_a_light_change_seen_by_one_camera_is_passed_to_one_that_lost_the_shirt(db) -> None:  # type: ignore[no-untyped-def]
+    tr = create_colorshirt_tracker(ColorShirtOptions(body="m"), _cams(2), database=db)
+    W0 = np.diag([0.95, 1.05, 1.0])
+    W1 = np.diag([1.1, 0.9, 1.05])
+    M = np.diag([1.4, 1.3, 1.1])  # the warm lamp went off
+    for st, W in zip(tr._cams, (W0, W1), strict=True):
+        st.W = W.copy()
+        st.last_fraction = 0.7
+    tr._cams[0].W = M @ W0  # camera 0 found its new W this frame
+    tr._share_light_change([W0, W1], seen={0})
+    assert np.allclose(tr._cams[1].W, M @ W1)
+    # a camera that still classifies the shirt well keeps its own W
+    tr._cams[1].W = W1.copy()
+    tr._cams[1].last_fraction = 0.7
+    tr._share_light_change([W0, W1], seen={0, 1})
+    assert np.allclose(tr._cams[1].W, W1)

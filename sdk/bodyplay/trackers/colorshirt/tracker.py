@@ -74,6 +74,9 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
+_LIGHT_JUMP = 0.25
+"""Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
+
 _MAX_NOISE_GROWTH = 2.5
 """Most pixels the noise-aware classification may add, relative to the plain one."""
 
@@ -460,7 +463,10 @@ class ColorShirtTracker:
                 f"got {len(frames)} frames for {len(self.cameras)} cameras; the frame set "
                 "must hold one frame per calibrated camera"
             )
+        before = [None if st.W is None else st.W.copy() for st in self._cams]
         views = [v for i, fr in enumerate(frames) if (v := self._view(i, fr.image)) is not None]
+        if self.options.adaptive_white_balance:
+            self._share_light_change(before, {v.index for v in views})
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         if not views:
@@ -495,6 +501,42 @@ class ColorShirtTracker:
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
+
+    def _share_light_change(self, before: list[NDArray[np.float64] | None],
+                            seen: set[int]) -> None:
+        """Pass a sudden change of light seen by one camera on to those that lost the shirt.
+
+        Every camera looks at the same shirt under the same lamps: with ``W_c = R
+        L^-1 A_c^-1`` (camera response ``A_c``, illuminant ``L``) a change of light
+        multiplies every camera's ``W`` on the left by the same ``M = W_d' W_d^-1``.
+        When a camera re-chose its ``W`` this frame (a jump of more than
+        ``_LIGHT_JUMP`` in Frobenius norm) and another camera kept its ``W`` but found
+        no shirt or classified under ``retry_fraction`` of it, the latter starts the
+        next frame from ``M W``, instead of waiting frames for its own search to
+        succeed in the new light.
+        """
+        jumps = []
+        for d in seen:
+            old, new = before[d], self._cams[d].W
+            if old is not None and new is not None:
+                jump = float(np.linalg.norm(new - old))
+                if jump > _LIGHT_JUMP:
+                    jumps.append((jump, new @ np.linalg.inv(old)))
+        if not jumps:
+            return
+        M = max(jumps, key=lambda j: j[0])[1]
+        for i, st in enumerate(self._cams):
+            prior_W = before[i]
+            if st.W is None or prior_W is None or float(
+                    np.linalg.norm(st.W - prior_W)) > _LIGHT_JUMP:
+                continue
+            struggling = st.last_fraction is not None and (
+                st.last_fraction < self.options.retry_fraction)
+            if i not in seen or struggling:
+                st.W = M @ st.W
+                st.references.add(st.W)
+                st.last_fraction = None
+        self.diagnostics["light_change"] = M
 
     def _within_reach(self, t: float, q: NDArray[np.float64]) -> bool:
         """Whether the root is within reach of the last reported pose.
