@@ -20,7 +20,6 @@ from __future__ import annotations
 import copy
 import dataclasses
 import time
-from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import cv2
@@ -164,7 +163,6 @@ class ColorShirtTracker:
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
         self._selection: BodySelection | None = None
-        self._arm_stage: Future[dict[str, BodyModel]] | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
         self._reference = "m"
@@ -590,23 +588,15 @@ class ColorShirtTracker:
 
     def _start_arm_selection(self) -> None:
         """Second start-up stage: once the preset is chosen, its arm-length variants
-        (:data:`ARM_SCALES`) are built in a background thread, then compared like the
-        presets were over ``arm_selection_frames`` frames with a pose."""
+        (:data:`ARM_SCALES`, about 40 ms each to build) are compared like the presets
+        were over ``arm_selection_frames`` frames with a pose. Built on the frame after
+        the choice, so that the result never depends on the machine's speed."""
         n = self.options.arm_selection_frames
         sel = self._selection
-        if n <= 0 or sel is None or sel.chosen is None:
+        if n <= 0 or sel is None or sel.chosen is None or self._arm_stage_started:
             return
-        if not self._arm_stage_started:
-            self._arm_stage_started = True
-            chosen = self._bodies[sel.chosen]
-            pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="colorshirt-arms")
-            self._arm_stage = pool.submit(arm_variants, chosen, self.cameras)
-            pool.shutdown(wait=False)
-            return
-        if self._arm_stage is None or not self._arm_stage.done():
-            return
-        variants = self._arm_stage.result()
-        self._arm_stage = None
+        self._arm_stage_started = True
+        variants = arm_variants(self._bodies[sel.chosen], self.cameras)
         previous = sel.previous.get(sel.chosen)
         self._reference = sel.chosen
         self._bodies = variants
