@@ -1,57 +1,108 @@
 """Vectorized rotation helpers (rotation vectors <-> matrices) used by kinematics.
 
 Rotation vectors (axis times angle, radians) are the pose parameterization; these
-functions work on any leading batch shape and never loop in Python.
+functions work on any leading batch shape and never loop in Python (numba kernels:
+the IK converts a few matrices many times per frame, where scipy's ``Rotation``
+spent more time on its checks than on the arithmetic).
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["rotvec_to_matrix", "matrix_to_rotvec", "rotation_between"]
 
 
+@numba.njit(cache=True, nogil=True)
+def _rotvec_to_matrix_kernel(r: NDArray[np.float64], out: NDArray[np.float64]) -> None:  # pragma: no cover
+    for n in range(r.shape[0]):
+        x, y, z = r[n, 0], r[n, 1], r[n, 2]
+        th = np.sqrt(x * x + y * y + z * z)
+        if th < 1e-8:  # first-order expansion keeps the map smooth at zero
+            out[n, 0, 0] = 1.0
+            out[n, 0, 1] = -z
+            out[n, 0, 2] = y
+            out[n, 1, 0] = z
+            out[n, 1, 1] = 1.0
+            out[n, 1, 2] = -x
+            out[n, 2, 0] = -y
+            out[n, 2, 1] = x
+            out[n, 2, 2] = 1.0
+            continue
+        kx, ky, kz = x / th, y / th, z / th
+        s = np.sin(th)
+        c = 1.0 - np.cos(th)
+        out[n, 0, 0] = 1.0 - c * (ky * ky + kz * kz)
+        out[n, 0, 1] = -s * kz + c * kx * ky
+        out[n, 0, 2] = s * ky + c * kx * kz
+        out[n, 1, 0] = s * kz + c * kx * ky
+        out[n, 1, 1] = 1.0 - c * (kx * kx + kz * kz)
+        out[n, 1, 2] = -s * kx + c * ky * kz
+        out[n, 2, 0] = -s * ky + c * kx * kz
+        out[n, 2, 1] = s * kx + c * ky * kz
+        out[n, 2, 2] = 1.0 - c * (kx * kx + ky * ky)
+
+
+@numba.njit(cache=True, nogil=True)
+def _matrix_to_rotvec_kernel(m: NDArray[np.float64], out: NDArray[np.float64]) -> None:  # pragma: no cover
+    # Shepperd's method: the quaternion from the largest of its four squared
+    # components, stable for every angle including pi
+    for n in range(m.shape[0]):
+        tr = m[n, 0, 0] + m[n, 1, 1] + m[n, 2, 2]
+        d0, d1, d2 = m[n, 0, 0], m[n, 1, 1], m[n, 2, 2]
+        if tr >= d0 and tr >= d1 and tr >= d2:
+            w = 0.5 * np.sqrt(max(1.0 + tr, 0.0))
+            f = 0.25 / w
+            x = (m[n, 2, 1] - m[n, 1, 2]) * f
+            y = (m[n, 0, 2] - m[n, 2, 0]) * f
+            z = (m[n, 1, 0] - m[n, 0, 1]) * f
+        elif d0 >= d1 and d0 >= d2:
+            x = 0.5 * np.sqrt(max(1.0 + d0 - d1 - d2, 0.0))
+            f = 0.25 / x
+            w = (m[n, 2, 1] - m[n, 1, 2]) * f
+            y = (m[n, 0, 1] + m[n, 1, 0]) * f
+            z = (m[n, 0, 2] + m[n, 2, 0]) * f
+        elif d1 >= d2:
+            y = 0.5 * np.sqrt(max(1.0 + d1 - d0 - d2, 0.0))
+            f = 0.25 / y
+            w = (m[n, 0, 2] - m[n, 2, 0]) * f
+            x = (m[n, 0, 1] + m[n, 1, 0]) * f
+            z = (m[n, 1, 2] + m[n, 2, 1]) * f
+        else:
+            z = 0.5 * np.sqrt(max(1.0 + d2 - d0 - d1, 0.0))
+            f = 0.25 / z
+            w = (m[n, 1, 0] - m[n, 0, 1]) * f
+            x = (m[n, 0, 2] + m[n, 2, 0]) * f
+            y = (m[n, 1, 2] + m[n, 2, 1]) * f
+        if w < 0.0:
+            w, x, y, z = -w, -x, -y, -z
+        v = np.sqrt(x * x + y * y + z * z)
+        if v < 1e-12:
+            k = 2.0  # tiny angle: rotvec ~ 2 * vector part
+        else:
+            k = 2.0 * np.arctan2(v, w) / v
+        out[n, 0] = k * x
+        out[n, 1] = k * y
+        out[n, 2] = k * z
+
+
 def rotvec_to_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
     """Rodrigues' formula: (..., 3) rotation vectors to (..., 3, 3) matrices."""
     r = np.asarray(rotvec, dtype=np.float64)
-    theta = np.linalg.norm(r, axis=-1, keepdims=True)
-    small = theta < 1e-8
-    safe = np.where(small, 1.0, theta)
-    k = r / safe
-    kx, ky, kz = k[..., 0], k[..., 1], k[..., 2]
-    zeros = np.zeros_like(kx)
-    K = np.stack(
-        [
-            np.stack([zeros, -kz, ky], axis=-1),
-            np.stack([kz, zeros, -kx], axis=-1),
-            np.stack([-ky, kx, zeros], axis=-1),
-        ],
-        axis=-2,
-    )
-    s = np.sin(theta)[..., None]
-    c = (1.0 - np.cos(theta))[..., None]
-    eye = np.broadcast_to(np.eye(3), K.shape)
-    R = eye + s * K + c * (K @ K)
-    # first-order expansion for tiny angles keeps the map smooth at zero
-    Kr = np.stack(
-        [
-            np.stack([zeros, -r[..., 2], r[..., 1]], axis=-1),
-            np.stack([r[..., 2], zeros, -r[..., 0]], axis=-1),
-            np.stack([-r[..., 1], r[..., 0], zeros], axis=-1),
-        ],
-        axis=-2,
-    )
-    return np.where(small[..., None], eye + Kr, R)
+    flat = np.ascontiguousarray(r.reshape(-1, 3))
+    out = np.empty((flat.shape[0], 3, 3))
+    _rotvec_to_matrix_kernel(flat, out)
+    return out.reshape(r.shape[:-1] + (3, 3))
 
 
 def matrix_to_rotvec(matrix: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) rotation matrices to (..., 3) rotation vectors (angle in [0, pi])."""
-    from scipy.spatial.transform import Rotation
-
     m = np.asarray(matrix, dtype=np.float64)
-    flat = m.reshape(-1, 3, 3)
-    out = Rotation.from_matrix(flat).as_rotvec()
+    flat = np.ascontiguousarray(m.reshape(-1, 3, 3))
+    out = np.empty((flat.shape[0], 3))
+    _matrix_to_rotvec_kernel(flat, out)
     return out.reshape(m.shape[:-2] + (3,))
 
 

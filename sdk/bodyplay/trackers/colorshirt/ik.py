@@ -13,7 +13,7 @@ The objective is the paper's ``sum ||c(q) - c||^2_Sigma_c + ||q - q_b||^2_Sigma_
 applied to the starting orientation, so rotation vectors never meet their
 singularity at 180 degrees. Forward kinematics and projection of a whole batch of
 perturbed poses run in one numba call, which gives the finite-difference Jacobian
-for scipy's ``least_squares`` in one call.
+for MINPACK's Levenberg-Marquardt in one call.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from pathlib import Path
 import numba
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import least_squares
+from scipy.optimize import leastsq
 
 from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
 from bodyplay.body.skeleton import NODE_NAMES, NODE_PARENTS, Skeleton
@@ -343,40 +343,51 @@ class KinematicSolver:
             return q0
         inv_soft = 1.0 / 0.02
         Qbuf = np.repeat(q0[None], n_x + 1, axis=0)
+        lim_idx = np.nonzero(lim)[0]
+        lo_l, hi_l = lo[lim_idx], hi[lim_idx]
+        n_pr = n_x * len(priors)
+        targets = np.concatenate([t for t, _ in priors]) if priors else np.zeros(0)
+        inv_std = np.concatenate([w for _, w in priors]) if priors else np.zeros(0)
+        tgt = (a.target * inv_sigma[:, None]).ravel()
+        inv_s = np.repeat(inv_sigma, 2)
+        r_out = np.empty(n_res)
+        # the prior rows of the Jacobian are constant; only anchors and limits change
+        J_out = np.zeros((n_res, n_x))
+        for k in range(len(priors)):
+            J_out[2 * n_a + k * n_x: 2 * n_a + (k + 1) * n_x] = np.diag(priors[k][1])
+        lim_rows = 2 * n_a + n_pr + np.arange(len(lim_idx))
+        eps = 1e-6
+        steps = np.eye(n_x) * eps
 
         def fun(x: NDArray[np.float64]) -> NDArray[np.float64]:
             Qbuf[0, free] = x
             proj = self.project(Qbuf[:1], a, pb.R0)[0]
-            parts = [((proj - a.target) * inv_sigma[:, None]).ravel()]
-            for target, inv_std in priors:
-                parts.append((x - target) * inv_std)
-            if lim.any():
-                xl = x[lim]
-                parts.append((np.maximum(xl - hi[lim], 0.0) + np.minimum(xl - lo[lim], 0.0))
-                             * inv_soft)
-            return np.concatenate(parts)
-
-        eps = 1e-6
+            r_out[: 2 * n_a] = proj.ravel() * inv_s - tgt
+            if n_pr:
+                r_out[2 * n_a: 2 * n_a + n_pr] = (np.tile(x, len(priors)) - targets) * inv_std
+            if len(lim_idx):
+                xl = x[lim_idx]
+                r_out[2 * n_a + n_pr:] = (np.maximum(xl - hi_l, 0.0)
+                                          + np.minimum(xl - lo_l, 0.0)) * inv_soft
+            return r_out.copy()
 
         def jac(x: NDArray[np.float64]) -> NDArray[np.float64]:
             Qbuf[:, free] = x
-            Qbuf[1:, free] += np.eye(n_x) * eps
-            proj = self.project(Qbuf, a, pb.R0)
-            d = (proj[1:] - proj[0][None]) / eps * inv_sigma[None, :, None]
-            J = [d.reshape(n_x, 2 * n_a).T]
-            for _, inv_std in priors:
-                J.append(np.diag(inv_std))
-            if lim.any():
-                xl = x[lim]
-                active = ((xl > hi[lim]) | (xl < lo[lim])) * inv_soft
-                Jl = np.zeros((int(lim.sum()), n_x))
-                Jl[np.arange(len(xl)), np.nonzero(lim)[0]] = active
-                J.append(Jl)
-            return np.concatenate(J, axis=0)
+            Qbuf[1:, free] += steps
+            proj = self.project(Qbuf, a, pb.R0).reshape(n_x + 1, 2 * n_a)
+            J_out[: 2 * n_a] = ((proj[1:] - proj[0]) * (inv_s / eps)).T
+            if len(lim_idx):
+                xl = x[lim_idx]
+                J_out[lim_rows, lim_idx] = ((xl > hi_l) | (xl < lo_l)) * inv_soft
+            return J_out.copy()
 
-        res = least_squares(fun, x0, jac=jac, method="lm", max_nfev=max_nfev)
+        # MINPACK's lmder through leastsq (least_squares wraps the same routine in
+        # more Python than these millisecond problems take to solve); tolerances are
+        # least_squares', the scaling is MINPACK's own (from the Jacobian's columns)
+        x_opt = leastsq(fun, x0, Dfun=jac, ftol=1e-8, xtol=1e-8, gtol=1e-8,
+                        maxfev=max_nfev, full_output=True)[0]
         q = q0.copy()
-        q[free] = np.clip(res.x, lo, hi)
+        q[free] = np.clip(x_opt, lo, hi)
         return q
 
     def _with_delta_root(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64],

@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -55,21 +56,38 @@ class PatchStats:
     centroid: NDArray[np.float64]
 
 
+@numba.njit(cache=True, nogil=True)
+def _patch_sums(ids: NDArray[np.uint8], depth: NDArray[np.float32], use_depth: bool,
+                n: int) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    out = np.zeros((n, 4))  # count, sum x, sum y, sum depth
+    h, w = ids.shape
+    for y in range(h):
+        for x in range(w):
+            k = ids[y, x]
+            if k >= n:
+                continue
+            out[k, 0] += 1.0
+            out[k, 1] += x
+            out[k, 2] += y
+            if use_depth:
+                d = depth[y, x]
+                if np.isfinite(d):
+                    out[k, 3] += d
+    return out
+
+
 def patch_stats(ids: NDArray[np.uint8], depth: NDArray[np.float32] | None = None
                 ) -> tuple[PatchStats, NDArray[np.float64] | None]:
     """Counts and centroids of every id in a patch map (and mean depths if given)."""
-    h, w = ids.shape
-    flat = ids.reshape(-1).astype(np.int64)
     n = NUM_PATCHES + 1
-    count = np.bincount(flat, minlength=n)[:n]
-    ys, xs = np.divmod(np.arange(h * w), w)
-    sx = np.bincount(flat, weights=xs, minlength=n)[:n]
-    sy = np.bincount(flat, weights=ys, minlength=n)[:n]
-    c = np.stack([sx, sy], axis=1) / np.maximum(count, 1)[:, None]
-    mean_depth = None
-    if depth is not None:
-        d = np.where(np.isfinite(depth), depth, 0.0).reshape(-1)
-        mean_depth = np.bincount(flat, weights=d, minlength=n)[:n] / np.maximum(count, 1)
+    ids = np.ascontiguousarray(ids, dtype=np.uint8)
+    d = (np.ascontiguousarray(depth, dtype=np.float32) if depth is not None
+         else np.zeros((1, 1), np.float32))
+    sums = _patch_sums(ids, d, depth is not None, n)
+    count = sums[:, 0].astype(np.int64)
+    safe = np.maximum(count, 1)[:, None]
+    c = sums[:, 1:3] / safe
+    mean_depth = sums[:, 3] / safe[:, 0] if depth is not None else None
     return PatchStats(count, c), mean_depth
 
 
