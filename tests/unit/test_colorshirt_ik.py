@@ -89,3 +89,23 @@ def test_prior_model_fit_gives_positive_stds_per_free_dof() -> None:
     assert 0.1 < np.median(pm.blend) < 0.3
     assert np.median(pm.previous) < np.median(pm.blend)
     assert PriorModel.from_dict(pm.to_dict()) == pm
+
+
+def test_patch_stats_counts_centroids_and_mean_depths_per_id() -> None:
+    from bodyplay.trackers.colorshirt.prediction import patch_stats
+
+    ids = np.zeros((6, 8), np.uint8)
+    ids[1:3, 2:6] = 4  # 8 pixels, centroid (3.5, 1.5)
+    ids[5, 7] = 20
+    ids[0, 0] = 200  # not a patch id: ignored
+    depth = np.full((6, 8), np.inf, np.float32)
+    depth[1:3, 2:6] = 2.0
+    depth[1, 2] = 4.0
+    stats, mean_depth = patch_stats(ids, depth)
+    assert stats.count[4] == 8 and stats.count[20] == 1 and stats.count.sum() == 47
+    np.testing.assert_allclose(stats.centroid[4], (3.5, 1.5))
+    np.testing.assert_allclose(stats.centroid[20], (7.0, 5.0))
+    assert mean_depth is not None
+    assert mean_depth[4] == (7 * 2.0 + 4.0) / 8
+    assert mean_depth[20] == 0.0  # an infinite depth (nothing rendered) adds nothing
+    assert patch_stats(ids)[1] is None

@@ -112,3 +112,22 @@ def test_rotation_helpers_round_trip() -> None:
     R = rotation_between(a, b)
     out = np.einsum("nij,nj->ni", R, a / np.linalg.norm(a, axis=1, keepdims=True))
     np.testing.assert_allclose(out, b / np.linalg.norm(b, axis=1, keepdims=True), atol=1e-9)
+
+
+def test_rotation_conversions_agree_with_scipy_at_zero_and_half_turns() -> None:
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(3)
+    rv = rng.normal(0, 1, (200, 3))
+    rv = rv / np.linalg.norm(rv, axis=1, keepdims=True) * rng.uniform(0, np.pi, (200, 1))
+    edge = np.array([[0, 0, 0], [1e-12, 0, 0], [np.pi, 0, 0], [0, -np.pi, 0],
+                     [0, 0, np.pi - 1e-9], [2.0, -1.0, 0.5]])
+    rv = np.concatenate([edge, rv])
+    R = rotvec_to_matrix(rv)
+    np.testing.assert_allclose(R, Rotation.from_rotvec(rv).as_matrix(), atol=1e-12)
+    back = matrix_to_rotvec(R)
+    # a half turn has two equal rotation vectors; compare the rotations they make
+    np.testing.assert_allclose(rotvec_to_matrix(back), R, atol=1e-9)
+    assert np.all(np.linalg.norm(back, axis=1) <= np.pi + 1e-9)
+    assert rotvec_to_matrix(np.zeros((2, 4, 3))).shape == (2, 4, 3, 3)
+    assert matrix_to_rotvec(np.eye(3)).shape == (3,)

@@ -16,7 +16,9 @@ __all__ = ["rotvec_to_matrix", "matrix_to_rotvec", "rotation_between"]
 
 
 @numba.njit(cache=True, nogil=True)
-def _rotvec_to_matrix_kernel(r: NDArray[np.float64], out: NDArray[np.float64]) -> None:  # pragma: no cover
+def _rotvec_to_matrix_kernel(  # pragma: no cover - compiled
+    r: NDArray[np.float64], out: NDArray[np.float64]
+) -> None:
     for n in range(r.shape[0]):
         x, y, z = r[n, 0], r[n, 1], r[n, 2]
         th = np.sqrt(x * x + y * y + z * z)
@@ -46,7 +48,9 @@ def _rotvec_to_matrix_kernel(r: NDArray[np.float64], out: NDArray[np.float64]) -
 
 
 @numba.njit(cache=True, nogil=True)
-def _matrix_to_rotvec_kernel(m: NDArray[np.float64], out: NDArray[np.float64]) -> None:  # pragma: no cover
+def _matrix_to_rotvec_kernel(  # pragma: no cover - compiled
+    m: NDArray[np.float64], out: NDArray[np.float64]
+) -> None:
     # Shepperd's method: the quaternion from the largest of its four squared
     # components, stable for every angle including pi
     for n in range(m.shape[0]):
@@ -79,10 +83,8 @@ def _matrix_to_rotvec_kernel(m: NDArray[np.float64], out: NDArray[np.float64]) -
         if w < 0.0:
             w, x, y, z = -w, -x, -y, -z
         v = np.sqrt(x * x + y * y + z * z)
-        if v < 1e-12:
-            k = 2.0  # tiny angle: rotvec ~ 2 * vector part
-        else:
-            k = 2.0 * np.arctan2(v, w) / v
+        # tiny angle: the rotation vector is twice the vector part
+        k = 2.0 if v < 1e-12 else 2.0 * np.arctan2(v, w) / v
         out[n, 0] = k * x
         out[n, 1] = k * y
         out[n, 2] = k * z
