@@ -21,6 +21,7 @@ from bodyplay.trackers.colorshirt import (
     create_colorshirt_tracker,
 )
 from bodyplay.trackers.colorshirt.database import build_database
+from bodyplay.trackers.colorshirt.views import share_light_change
 
 SK = Skeleton()
 
@@ -183,10 +184,10 @@ def test_a_light_change_seen_by_one_camera_is_passed_to_one_that_lost_the_shirt(
         st.W = W.copy()
         st.last_fraction = 0.7
     tr._cams[0].W = M @ W0  # camera 0 found its new W this frame
-    tr._share_light_change([W0, W1], seen={0})
+    share_light_change(tr._cams, [W0, W1], seen={0}, retry_fraction=0.4)
     assert np.allclose(tr._cams[1].W, M @ W1)
     # a camera that still classifies the shirt well keeps its own W
     tr._cams[1].W = W1.copy()
     tr._cams[1].last_fraction = 0.7
-    tr._share_light_change([W0, W1], seen={0, 1})
+    share_light_change(tr._cams, [W0, W1], seen={0, 1}, retry_fraction=0.4)
     assert np.allclose(tr._cams[1].W, W1)

@@ -27,7 +27,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS, UPPER_BODY
-from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
 from bodyplay.body.shirt import NUM_COLORS, PATCHES
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
@@ -41,16 +40,11 @@ from bodyplay.trackers.colorshirt.bodyselect import (
     reprojection_residual,
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
-from bodyplay.trackers.colorshirt.database import (
-    PoseDatabase,
-    blend_poses,
-    canonical_camera,
-    mismatch,
-    render_normalized,
-)
+from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.placement import DatabasePlacement
 from bodyplay.trackers.colorshirt.prediction import (
     CropWindow,
     PoseRenderer,
@@ -63,6 +57,7 @@ from bodyplay.trackers.colorshirt.views import (
     CameraView,
     clean_ids,
     make_query,
+    share_light_change,
 )
 from bodyplay.trackers.colorshirt.whitebalance import (
     ReferenceIlluminations,
@@ -72,9 +67,6 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 )
 
 __all__ = ["ColorShirtTracker", "CameraView"]
-
-_LIGHT_JUMP = 0.25
-"""Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
 
 _MAX_NOISE_GROWTH = 2.5
 """Most pixels the noise-aware classification may add, relative to the plain one."""
@@ -141,7 +133,7 @@ class ColorShirtTracker:
         self._fixed = self._bodies.get(self._reference) or BodyModel(
             options.body, skeleton, PoseRenderer(skeleton), KinematicSolver(skeleton, cameras))
         self._use(self._fixed)
-        self._canonical = canonical_camera()
+        self.placement = DatabasePlacement(database, cameras)
         self._undistort = [self._undistort_maps(c) for c in cameras]
         self.reset()
 
@@ -303,63 +295,6 @@ class ColorShirtTracker:
         return view
 
     # ---- pose estimation -------------------------------------------------------------
-    def _place_entries(self, view: CameraView, pose: NDArray[np.float64],
-                       root_crop: NDArray[np.float64], root_depth: NDArray[np.float64],
-                       crop_scale: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Place database poses (C, D), relative to the canonical camera, in the world.
-
-        The root goes where the entry's root falls in ``view``'s normalized query, at
-        the depth that makes the shirt as large as observed; the orientation keeps
-        its relation to the camera.
-        """
-        cam = self.cameras[view.index]
-        s_img = view.query_scale * view.window.scale  # query px per image px
-        uv = view.window.to_image((root_crop - view.query_offset) / view.query_scale)
-        f_ratio = cam.K[0, 0] / self._canonical.K[0, 0]
-        depth = root_depth * f_ratio * s_img / crop_scale
-        rays = np.concatenate([uv, np.ones((len(uv), 1))], axis=1) @ np.linalg.inv(cam.K).T
-        roots = (rays * depth[:, None] - cam.t) @ cam.R
-        R_body = cam.R.T @ self._canonical.R @ rotvec_to_matrix(pose[:, 3:6])
-        q = pose.copy()
-        q[:, 0:3] = roots
-        q[:, 3:6] = matrix_to_rotvec(R_body)
-        return q
-
-    def _place(self, view: CameraView) -> NDArray[np.float64]:
-        """Blend ``view``'s neighbours and place the blend in the world through its camera."""
-        b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
-        return self._place_entries(view, b.pose[None], b.root_crop[None],
-                                   np.array([b.root_depth]), np.array([b.crop_scale]))[0]
-
-    def _multiview_blend(self, views: list[CameraView]) -> NDArray[np.float64]:
-        """With several cameras, rank every camera's neighbours by their mismatch in all.
-
-        Each candidate is placed through the camera that proposed it, rendered as a
-        normalized 40x40 map in every camera and scored by its summed mismatch
-        against the cameras' queries; the best ``neighbours`` are blended in world
-        coordinates. A pose that only one view explains (an arm hidden in it) loses.
-        """
-        db = self.database
-        seen: set[int] = set()
-        placed = []
-        for v in views:
-            idx = np.array([i for i in v.neighbours.index if i not in seen])  # type: ignore[attr-defined]
-            if not len(idx):
-                continue
-            seen.update(int(i) for i in idx)
-            placed.append(self._place_entries(
-                v, db.poses[idx].astype(np.float64), db.root_crop[idx].astype(np.float64),
-                db.root_depth[idx].astype(np.float64), db.crop_scale[idx].astype(np.float64)))
-        Q = np.concatenate(placed)
-        total = np.zeros(len(Q))
-        for v in views:
-            assert v.query is not None
-            maps = render_normalized(self.skeleton, Q, self.cameras[v.index], db.options)
-            total += mismatch(maps, v.query[None]) / float(v.query.size)
-        total /= len(views)
-        best = np.argsort(total, kind="stable")[: db.options.neighbours]
-        return blend_poses(Q[best], 1.0 / (total[best] + 0.02))
-
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
                  rendered: list[RenderedPose], observed: list[tuple[NDArray[np.int64],
                                                                    NDArray[np.float64]]],
@@ -464,7 +399,10 @@ class ColorShirtTracker:
         before = [None if st.W is None else st.W.copy() for st in self._cams]
         views = [v for i, fr in enumerate(frames) if (v := self._view(i, fr.image)) is not None]
         if self.options.adaptive_white_balance:
-            self._share_light_change(before, {v.index for v in views})
+            M = share_light_change(self._cams, before, {v.index for v in views},
+                                   self.options.retry_fraction)
+            if M is not None:
+                self.diagnostics["light_change"] = M
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         if not views:
@@ -499,42 +437,6 @@ class ColorShirtTracker:
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
-
-    def _share_light_change(self, before: list[NDArray[np.float64] | None],
-                            seen: set[int]) -> None:
-        """Pass a sudden change of light seen by one camera on to those that lost the shirt.
-
-        Every camera looks at the same shirt under the same lamps: with ``W_c = R
-        L^-1 A_c^-1`` (camera response ``A_c``, illuminant ``L``) a change of light
-        multiplies every camera's ``W`` on the left by the same ``M = W_d' W_d^-1``.
-        When a camera re-chose its ``W`` this frame (a jump of more than
-        ``_LIGHT_JUMP`` in Frobenius norm) and another camera kept its ``W`` but found
-        no shirt or classified under ``retry_fraction`` of it, the latter starts the
-        next frame from ``M W``, instead of waiting frames for its own search to
-        succeed in the new light.
-        """
-        jumps = []
-        for d in seen:
-            old, new = before[d], self._cams[d].W
-            if old is not None and new is not None:
-                jump = float(np.linalg.norm(new - old))
-                if jump > _LIGHT_JUMP:
-                    jumps.append((jump, new @ np.linalg.inv(old)))
-        if not jumps:
-            return
-        M = max(jumps, key=lambda j: j[0])[1]
-        for i, st in enumerate(self._cams):
-            prior_W = before[i]
-            if st.W is None or prior_W is None or float(
-                    np.linalg.norm(st.W - prior_W)) > _LIGHT_JUMP:
-                continue
-            struggling = st.last_fraction is not None and (
-                st.last_fraction < self.options.retry_fraction)
-            if i not in seen or struggling:
-                st.W = M @ st.W
-                st.references.add(st.W)
-                st.last_fraction = None
-        self.diagnostics["light_change"] = M
 
     def _within_reach(self, t: float, q: NDArray[np.float64]) -> bool:
         """Whether the root is within reach of the last reported pose.
@@ -627,9 +529,9 @@ class ColorShirtTracker:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame."""
         o = self.options
         if len(views) > 1 and o.multiview_lookup:
-            q_b = self._multiview_blend(views)
+            q_b = self.placement.multiview_blend(views, self.skeleton)
         else:
-            q_b = self._place(min(views, key=lambda v: v.distance))
+            q_b = self.placement.place(min(views, key=lambda v: v.distance))
         verts = self.renderer.vertices(q_b)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
