@@ -69,6 +69,21 @@ def test_ablation_without_white_balance_and_prior_is_worse_under_switching_light
     assert found_base < 0.95 or base > 1.2 * full
 
 
+@pytest.mark.gl
+def test_track_set_passes_options_to_the_tracker_and_rejects_unknown_ones(
+    tmp_path: Path, capsys  # type: ignore[no-untyped-def]
+) -> None:
+    cap = _synth(tmp_path / "cap", 0.4)
+    args = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c")]
+    code = main([*args, "--out", str(tmp_path / "p.jsonl"), "--body", "auto",
+                 "--set", "body=m_slim", "--set", "arm_selection_frames=0"])
+    assert code == 0
+    assert "body preset: m_slim (as requested)" in capsys.readouterr().out
+    code = main([*args, "--out", str(tmp_path / "q.jsonl"), "--set", "max_sped=4"])
+    assert code == 2
+    assert "unknown colorshirt option 'max_sped'" in capsys.readouterr().err
+
+
 def test_track_rejects_a_folder_without_calibration(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
     (tmp_path / "cam0").mkdir()
     code = main(["track", "--input", str(tmp_path), "--out", str(tmp_path / "p.jsonl")])

@@ -19,6 +19,7 @@ from bodyplay.trackers.colorshirt import (
     ColorShirtOptions,
     DatabaseOptions,
     create_colorshirt_tracker,
+    options_with_overrides,
 )
 from bodyplay.trackers.colorshirt.database import build_database
 from bodyplay.trackers.colorshirt.views import share_light_change
@@ -191,3 +192,30 @@ def test_a_light_change_seen_by_one_camera_is_passed_to_one_that_lost_the_shirt(
     tr._cams[1].last_fraction = 0.7
     share_light_change(tr._cams, [W0, W1], seen={0, 1}, retry_fraction=0.4)
     assert np.allclose(tr._cams[1].W, W1)
+
+
+def test_option_overrides_convert_strings_to_each_fields_type() -> None:
+    base = ColorShirtOptions()
+    opts = options_with_overrides(base, [
+        "max_speed=4", "pose_prior=false", "arm_selection_frames=0", "prior_model=none",
+        "body=m_slim", "locate.tau=0.12", "locate.scales=0.2,0.3",
+        "initial_white_balance=1,0,0;0,1,0;0,0,1",
+    ])
+    assert opts.max_speed == 4.0 and opts.pose_prior is False
+    assert opts.arm_selection_frames == 0 and opts.prior_model is None and opts.body == "m_slim"
+    assert opts.locate.tau == 0.12 and opts.locate.scales == (0.2, 0.3)
+    assert opts.initial_white_balance == ((1, 0, 0), (0, 1, 0), (0, 0, 1))
+    assert options_with_overrides(base, []) == base
+
+
+@pytest.mark.parametrize(("item", "message"), [
+    ("max_sped=4", "unknown colorshirt option 'max_sped'.*max_speed"),
+    ("locate.taux=1", "unknown locate option 'taux'"),
+    ("max_speed", "NAME=VALUE"),
+    ("pose_prior=maybe", "pose_prior: cannot read 'maybe'"),
+    ("ik_rounds=two", "ik_rounds: cannot read"),
+    ("max_speed=-1", "max_speed must be a positive"),
+])
+def test_option_overrides_reject_unknown_names_and_bad_values(item: str, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        options_with_overrides(ColorShirtOptions(), [item])

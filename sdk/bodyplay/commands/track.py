@@ -45,12 +45,20 @@ def register(subparsers: Any) -> None:
     cs.add_argument("--body", default="auto",
                     help="body preset of the generic skeleton, or 'auto' (default): "
                          "chosen among all presets on the first frames")
+    cs.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="any other ColorShirtOptions field (repeatable), e.g. "
+                         "--set max_speed=4 --set measurement_noise=0 --set locate.tau=0.12; "
+                         "see docs/colorshirt.md for the list")
     p.set_defaults(func=run)
 
 
 def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
     if args.tracker == "colorshirt":
-        from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
+        from bodyplay.trackers.colorshirt import (
+            ColorShirtOptions,
+            create_colorshirt_tracker,
+            options_with_overrides,
+        )
 
         opts = ColorShirtOptions(
             adaptive_white_balance=not args.no_adaptive_wb,
@@ -60,9 +68,13 @@ def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
             color_model=args.color_model,
             body=args.body,
         )
+        opts = options_with_overrides(opts, args.set)
         return create_colorshirt_tracker(opts, cameras, progress=True)
     from bodyplay.trackers import create_tracker
 
+    if args.set:
+        raise ConfigError(f"--set applies to the colorshirt tracker's options, not to "
+                          f"{args.tracker!r}")
     # any other tracker plugin (entry point group ``bodyplay.trackers``), default options
     return create_tracker(args.tracker, cameras)
 
@@ -106,8 +118,6 @@ def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
 
 def run(args: argparse.Namespace) -> int:
     """Track every frame set, write poses.jsonl (and the overlay); print a summary."""
-    from bodyplay.capture.frames import FrameSet
-    from bodyplay.capture.jsonl import PoseJsonlWriter
     from bodyplay.capture.sources import open_source
 
     src = open_source(args.input)
@@ -116,9 +126,33 @@ def run(args: argparse.Namespace) -> int:
     cams = tuple(src.cameras[: args.cameras] if args.cameras else src.cameras)
     tracker = _make_tracker(args, cams)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    writer_video = None
-    n = found = 0
     ms: list[float] = []
+    writer_box: list[Any] = [None]
+    try:
+        n, found = _track_all(args, src, cams, tracker, ms, writer_box)
+    finally:
+        # the overlay is playable up to the last frame even if tracking failed
+        if writer_box[0] is not None:
+            writer_box[0].release()
+    med = float(np.median(ms)) if ms else float("nan")
+    print(f"tracked {n} frame sets with {args.tracker}: pose found in {found}, "
+          f"median {med:.1f} ms per frame set; wrote {args.out}")
+    body = getattr(tracker, "body_name", None)
+    if body is not None:
+        requested = getattr(getattr(tracker, "options", None), "body", args.body)
+        how = "chosen on the first frames" if requested == "auto" else "as requested"
+        print(f"body preset: {body} ({how})")
+    return 0
+
+
+def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracker: Any,
+               ms: list[float], writer_box: list[Any]) -> tuple[int, int]:
+    """The tracking loop of :func:`run`: poses to ``args.out`` (flushed per record),
+    overlay frames to the writer it opens in ``writer_box``."""
+    from bodyplay.capture.frames import FrameSet
+    from bodyplay.capture.jsonl import PoseJsonlWriter
+
+    n = found = 0
     with src, PoseJsonlWriter(args.out) as out:
         for fs in src:
             if args.frames is not None and n >= args.frames:
@@ -131,19 +165,10 @@ def run(args: argparse.Namespace) -> int:
             ms.append(result.ms)
             if args.overlay:
                 img = draw_overlay(fs.frames[0].image, result, cams[0])
-                if writer_video is None:
+                if writer_box[0] is None:
                     h, w = img.shape[:2]
-                    writer_video = cv2.VideoWriter(
+                    writer_box[0] = cv2.VideoWriter(
                         args.overlay, cv2.VideoWriter.fourcc(*"mp4v"), src.fps, (w, h)
                     )
-                writer_video.write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
-    if writer_video is not None:
-        writer_video.release()
-    med = float(np.median(ms)) if ms else float("nan")
-    print(f"tracked {n} frame sets with {args.tracker}: pose found in {found}, "
-          f"median {med:.1f} ms per frame set; wrote {args.out}")
-    body = getattr(tracker, "body_name", None)
-    if body is not None:
-        how = "chosen on the first frames" if args.body == "auto" else "as requested"
-        print(f"body preset: {body} ({how})")
-    return 0
+                writer_box[0].write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
+    return n, found

@@ -24,7 +24,7 @@ from bodyplay.trackers.colorshirt.database import (
     load_or_build_database,
 )
 from bodyplay.trackers.colorshirt.ik import PriorModel, default_prior_model
-from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.options import ColorShirtOptions, options_with_overrides
 from bodyplay.trackers.colorshirt.tracker import ColorShirtTracker
 
 __all__ = [
@@ -35,6 +35,7 @@ __all__ = [
     "PoseDatabase",
     "PriorModel",
     "create_colorshirt_tracker",
+    "options_with_overrides",
 ]
 
 
