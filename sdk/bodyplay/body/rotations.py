@@ -12,7 +12,37 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["rotvec_to_matrix", "matrix_to_rotvec", "rotation_between"]
+__all__ = ["rotvec_to_matrix", "matrix_to_rotvec", "rotation_between", "rodrigues_into"]
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def rodrigues_into(  # pragma: no cover - compiled
+    rx: float, ry: float, rz: float, out: NDArray[np.float64]
+) -> None:
+    """Rodrigues' formula for one rotation vector into the 3x3 ``out`` (numba only).
+
+    Below 1e-8 rad the first-order expansion keeps the map smooth at zero. The one
+    implementation behind :func:`rotvec_to_matrix`, the skeleton's forward
+    kinematics and the color-shirt IK's anchor projection.
+    """
+    th = np.sqrt(rx * rx + ry * ry + rz * rz)
+    if th < 1e-8:
+        out[0, 0], out[0, 1], out[0, 2] = 1.0, -rz, ry
+        out[1, 0], out[1, 1], out[1, 2] = rz, 1.0, -rx
+        out[2, 0], out[2, 1], out[2, 2] = -ry, rx, 1.0
+        return
+    kx, ky, kz = rx / th, ry / th, rz / th
+    s = np.sin(th)
+    c = 1.0 - np.cos(th)
+    out[0, 0] = 1.0 - c * (ky * ky + kz * kz)
+    out[0, 1] = -s * kz + c * kx * ky
+    out[0, 2] = s * ky + c * kx * kz
+    out[1, 0] = s * kz + c * kx * ky
+    out[1, 1] = 1.0 - c * (kx * kx + kz * kz)
+    out[1, 2] = -s * kx + c * ky * kz
+    out[2, 0] = -s * ky + c * kx * kz
+    out[2, 1] = s * kx + c * ky * kz
+    out[2, 2] = 1.0 - c * (kx * kx + ky * ky)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -20,31 +50,7 @@ def _rotvec_to_matrix_kernel(  # pragma: no cover - compiled
     r: NDArray[np.float64], out: NDArray[np.float64]
 ) -> None:
     for n in range(r.shape[0]):
-        x, y, z = r[n, 0], r[n, 1], r[n, 2]
-        th = np.sqrt(x * x + y * y + z * z)
-        if th < 1e-8:  # first-order expansion keeps the map smooth at zero
-            out[n, 0, 0] = 1.0
-            out[n, 0, 1] = -z
-            out[n, 0, 2] = y
-            out[n, 1, 0] = z
-            out[n, 1, 1] = 1.0
-            out[n, 1, 2] = -x
-            out[n, 2, 0] = -y
-            out[n, 2, 1] = x
-            out[n, 2, 2] = 1.0
-            continue
-        kx, ky, kz = x / th, y / th, z / th
-        s = np.sin(th)
-        c = 1.0 - np.cos(th)
-        out[n, 0, 0] = 1.0 - c * (ky * ky + kz * kz)
-        out[n, 0, 1] = -s * kz + c * kx * ky
-        out[n, 0, 2] = s * ky + c * kx * kz
-        out[n, 1, 0] = s * kz + c * kx * ky
-        out[n, 1, 1] = 1.0 - c * (kx * kx + kz * kz)
-        out[n, 1, 2] = -s * kx + c * ky * kz
-        out[n, 2, 0] = -s * ky + c * kx * kz
-        out[n, 2, 1] = s * kx + c * ky * kz
-        out[n, 2, 2] = 1.0 - c * (kx * kx + ky * ky)
+        rodrigues_into(r[n, 0], r[n, 1], r[n, 2], out[n])
 
 
 @numba.njit(cache=True, nogil=True)

@@ -20,6 +20,7 @@ from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES, NUM_JOINTS
+from bodyplay.body.rotations import rodrigues_into
 from bodyplay.body.shapes import BodyShape, body_shape
 from bodyplay.errors import ConfigError
 
@@ -112,25 +113,7 @@ def _fk_pose(q, offsets, parents, out):  # pragma: no cover
         rx = q[3 + 3 * i]
         ry = q[4 + 3 * i]
         rz = q[5 + 3 * i]
-        theta = np.sqrt(rx * rx + ry * ry + rz * rz)
-        if theta < 1e-8:
-            R[0, 0], R[0, 1], R[0, 2] = 1.0, -rz, ry
-            R[1, 0], R[1, 1], R[1, 2] = rz, 1.0, -rx
-            R[2, 0], R[2, 1], R[2, 2] = -ry, rx, 1.0
-        else:
-            kx, ky, kz = rx / theta, ry / theta, rz / theta
-            s = np.sin(theta)
-            c = 1.0 - np.cos(theta)
-            # R = I + s K + c K^2 with K the cross-product matrix of the unit axis
-            R[0, 0] = 1.0 + c * (-kz * kz - ky * ky)
-            R[0, 1] = -s * kz + c * (ky * kx)
-            R[0, 2] = s * ky + c * (kz * kx)
-            R[1, 0] = s * kz + c * (kx * ky)
-            R[1, 1] = 1.0 + c * (-kz * kz - kx * kx)
-            R[1, 2] = -s * kx + c * (kz * ky)
-            R[2, 0] = -s * ky + c * (kx * kz)
-            R[2, 1] = s * kx + c * (ky * kz)
-            R[2, 2] = 1.0 + c * (-ky * ky - kx * kx)
+        rodrigues_into(rx, ry, rz, R)
         p = parents[i]
         for a in range(3):
             out[i, 3, a] = 0.0

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import leastsq
 
-from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
+from bodyplay.body.rotations import matrix_to_rotvec, rodrigues_into, rotvec_to_matrix
 from bodyplay.body.skeleton import NODE_NAMES, NODE_PARENTS, Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
@@ -64,33 +64,6 @@ def ik_dofs() -> NDArray[np.int64]:
 
 
 @numba.njit(cache=True, nogil=True)
-def _rodrigues(rx: float, ry: float, rz: float) -> NDArray[np.float64]:  # pragma: no cover
-    th = np.sqrt(rx * rx + ry * ry + rz * rz)
-    R = np.eye(3)
-    if th < 1e-10:
-        R[0, 1] = -rz
-        R[0, 2] = ry
-        R[1, 0] = rz
-        R[1, 2] = -rx
-        R[2, 0] = -ry
-        R[2, 1] = rx
-        return R
-    kx, ky, kz = rx / th, ry / th, rz / th
-    s = np.sin(th)
-    c = 1.0 - np.cos(th)
-    R[0, 0] = 1.0 - c * (ky * ky + kz * kz)
-    R[0, 1] = -s * kz + c * kx * ky
-    R[0, 2] = s * ky + c * kx * kz
-    R[1, 0] = s * kz + c * kx * ky
-    R[1, 1] = 1.0 - c * (kx * kx + kz * kz)
-    R[1, 2] = -s * kx + c * ky * kz
-    R[2, 0] = -s * ky + c * kx * kz
-    R[2, 1] = s * kx + c * ky * kz
-    R[2, 2] = 1.0 - c * (kx * kx + ky * ky)
-    return R
-
-
-@numba.njit(cache=True, nogil=True)
 def _fk(  # pragma: no cover - compiled
     q: NDArray[np.float64],
     R0: NDArray[np.float64],
@@ -101,8 +74,9 @@ def _fk(  # pragma: no cover - compiled
     """Node rotations and positions for nodes 0..upto-1; root rotation is R0 exp(q[3:6])."""
     rot = np.empty((upto, 3, 3))
     pos = np.empty((upto, 3))
+    Rl = np.empty((3, 3))
     for i in range(upto):
-        Rl = _rodrigues(q[3 + 3 * i], q[4 + 3 * i], q[5 + 3 * i])
+        rodrigues_into(q[3 + 3 * i], q[4 + 3 * i], q[5 + 3 * i], Rl)
         p = parents[i]
         if p < 0:
             rot[i] = R0 @ Rl
