@@ -19,7 +19,12 @@ from bodyplay.trackers.colorshirt import (
     DatabaseOptions,
     create_colorshirt_tracker,
 )
-from bodyplay.trackers.colorshirt.bodyselect import ARM_SCALES, arm_variants, with_arm_scale
+from bodyplay.trackers.colorshirt.bodyselect import (
+    ARM_SCALES,
+    BodySelection,
+    arm_variants,
+    with_arm_scale,
+)
 from bodyplay.trackers.colorshirt.database import build_database
 
 REF = Skeleton.from_shape("m")
@@ -121,3 +126,28 @@ def test_auto_body_then_finds_that_the_arms_are_short(db) -> None:  # type: igno
     # 3 preset frames, then 4 arm frames starting on the next one: decided by frame 8
     assert "*" in tr.body_name
     assert float(tr.body_name.split("*")[1]) <= 0.92
+
+
+def test_body_selection_drops_the_worse_half_early_and_decides_among_the_rest() -> None:
+    names = tuple("abcdefgh")
+    sel = BodySelection(names, frames=20, halvings=(0.25, 0.5))
+    residual = {n: 0.01 * (i + 1) for i, n in enumerate(names)}  # a is best
+    residual["h"] = 0.001  # h looks best at first, then turns bad
+    for frame in range(20):
+        if frame == 5:
+            residual["h"] = 0.5
+        sel.add({n: residual[n] for n in sel.active})
+        if frame + 1 == 5:
+            assert len(sel.active) == 4 and "h" in sel.active
+        if frame + 1 == 10:
+            assert len(sel.active) == 2
+    assert sel.chosen == "a"
+    assert sel.active == ["a", "b"]
+
+
+def test_body_selection_never_halves_below_two_candidates() -> None:
+    assert BodySelection(("x",), frames=20).halvings == (0.5,)  # the default: once
+    sel = BodySelection(("x", "y", "z"), frames=4, halvings=(0.25, 0.5))
+    for _ in range(4):
+        sel.add({"x": 0.2, "y": 0.1, "z": 0.3})
+    assert sel.active == ["y", "x"] and sel.chosen == "y"

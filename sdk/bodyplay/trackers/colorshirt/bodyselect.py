@@ -98,7 +98,10 @@ class BodySelection:
 
     ``frames`` is how many frames with a fit decide; ``previous`` holds each
     candidate's last pose (its own temporal prior while the candidates run side by
-    side); ``chosen`` is set once the frames are in.
+    side); ``chosen`` is set once the frames are in. ``halvings`` are the fractions
+    of ``frames`` after which the worse half of the candidates still in the race
+    (``active``) drops out (successive halving, down to two): the clear losers stop
+    costing a fit per frame early, the close ones are decided on every frame.
     """
 
     names: tuple[str, ...]
@@ -108,6 +111,12 @@ class BodySelection:
     previous: dict[str, NDArray[np.float64] | None] = field(default_factory=dict)
     seen: int = 0
     chosen: str | None = None
+    halvings: tuple[float, ...] = (0.5,)
+    active: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not self.active:
+            self.active = list(self.names)
 
     def add(self, residuals: dict[str, float]) -> None:
         """Record one frame's residual per candidate (NaN: the candidate failed)."""
@@ -117,6 +126,10 @@ class BodySelection:
             if np.isfinite(r):
                 self.sums[n] = self.sums.get(n, 0.0) + r
                 self.counts[n] = self.counts.get(n, 0) + 1
+        for f in self.halvings:
+            if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
+                ranked = sorted(self.active, key=self.mean)
+                self.active = ranked[: max(2, (len(ranked) + 1) // 2)]
         if self.seen >= self.frames and self.counts:
             self.chosen = self.best()
 
@@ -126,11 +139,12 @@ class BodySelection:
         return self.sums[name] / c if c else float("inf")
 
     def best(self) -> str:
-        """The candidate with the lowest mean residual among those fitted most often."""
-        most = max(self.counts.values(), default=0)
-        pool = [n for n in self.names if self.counts.get(n, 0) >= max(1, most // 2)]
+        """The candidate in the race with the lowest mean residual among those fitted
+        most often."""
+        most = max((self.counts.get(n, 0) for n in self.active), default=0)
+        pool = [n for n in self.active if self.counts.get(n, 0) >= max(1, most // 2)]
         if not pool:
-            return self.names[0]
+            return self.active[0] if self.active else self.names[0]
         return min(pool, key=self.mean)
 
     def means(self) -> dict[str, float]:

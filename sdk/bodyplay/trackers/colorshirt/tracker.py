@@ -468,7 +468,11 @@ class ColorShirtTracker:
         assert sel is not None
         fits: dict[str, tuple[_Fit, dict[str, object]]] = {}
         residuals: dict[str, float] = {}
-        for name, body in self._bodies.items():
+        racing = list(sel.active)
+        if self._reference in self._bodies and self._reference not in racing:
+            racing.append(self._reference)  # reported until the choice is made
+        for name in racing:
+            body = self._bodies[name]
             self._use(body)
             self.diagnostics = {}
             fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name))
