@@ -78,18 +78,20 @@ def _fk(  # pragma: no cover - compiled
     for i in range(upto):
         rodrigues_into(q[3 + 3 * i], q[4 + 3 * i], q[5 + 3 * i], Rl)
         p = parents[i]
+        # parent rotation (R0 for the root) times the local one, written out: a
+        # 3x3 product through np.dot costs more in call overhead than in arithmetic
+        P = R0 if p < 0 else rot[p]
+        for r in range(3):
+            for c in range(3):
+                rot[i, r, c] = P[r, 0] * Rl[0, c] + P[r, 1] * Rl[1, c] + P[r, 2] * Rl[2, c]
         if p < 0:
-            rot[i] = R0 @ Rl
             pos[i, 0] = q[0]
             pos[i, 1] = q[1]
             pos[i, 2] = q[2]
         else:
-            rot[i] = rot[p] @ Rl
             for r in range(3):
                 pos[i, r] = pos[p, r] + (
-                    rot[p, r, 0] * offsets[i, 0]
-                    + rot[p, r, 1] * offsets[i, 1]
-                    + rot[p, r, 2] * offsets[i, 2]
+                    P[r, 0] * offsets[i, 0] + P[r, 1] * offsets[i, 1] + P[r, 2] * offsets[i, 2]
                 )
     return rot, pos
 
