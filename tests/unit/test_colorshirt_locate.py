@@ -102,3 +102,24 @@ def test_invalid_locate_options_are_rejected() -> None:
         LocateOptions(scales=(1.5,))
     with pytest.raises(ConfigError):
         LocateOptions(stride=0)
+
+
+def test_search_near_the_last_position_matches_the_whole_frame_search() -> None:
+    rng = np.random.default_rng(12)
+    img = clutter(480, 640, rng)
+    paint_shirt(img, 300, 200, 30, rng)  # 120 x 150 px at (300..420, 200..350)
+    locator = ShirtLocator()
+    whole = locator.locate(img)
+    near = locator.locate(img, region=(180, 50, 540, 480))
+    assert near.found
+    assert abs(near.x - whole.x) < 6 and abs(near.y - whole.y) < 6
+    assert abs(near.scale - whole.scale) < 0.15 * whole.scale
+
+
+def test_search_falls_back_to_the_whole_frame_when_the_shirt_left_the_region() -> None:
+    rng = np.random.default_rng(13)
+    img = clutter(480, 640, rng)
+    paint_shirt(img, 420, 250, 30, rng)
+    loc = ShirtLocator().locate(img, region=(0, 0, 200, 200))
+    assert loc.found
+    assert abs(loc.x - 480) < 25 and abs(loc.y - 325) < 25

@@ -165,9 +165,14 @@ class ShirtLocator:
         self.options = options or LocateOptions()
 
     def uniformity_maps(
-        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None
+        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
+        frame_height: int | None = None,
     ) -> list[tuple[int, NDArray[np.float32]]]:
-        """Per scale: (window side in cells, u over window top-left cells)."""
+        """Per scale: (window side in cells, u over window top-left cells).
+
+        Window sides are fractions of ``frame_height`` (default the image's own
+        height; a part of a frame passes the whole frame's).
+        """
         o = self.options
         bins = chroma_bins(image, mask, o.min_brightness)
         integ = _cell_integral(bins, o.stride)
@@ -184,7 +189,7 @@ class ShirtLocator:
         else:
             active = np.ones((hc, wc), np.bool_)
         out = []
-        h = image.shape[0]
+        h = image.shape[0] if frame_height is None else frame_height
         for frac in o.scales:
             s = max(2, int(round(frac * h / o.stride)))
             if s > min(hc, wc):
@@ -194,11 +199,33 @@ class ShirtLocator:
         return out
 
     def locate(
-        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None
+        self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
+        region: tuple[int, int, int, int] | None = None,
     ) -> ShirtLocation:
-        """Centre and scale of the most colorful region (the weighted average of §4)."""
+        """Centre and scale of the most colorful region (the weighted average of §4).
+
+        ``region`` ``(x0, y0, x1, y1)`` (image pixels; a tracker passes the
+        neighbourhood of the shirt's last position) limits the search to the
+        windows inside it, on the same cell grid as the whole-frame search; when
+        no shirt is found there the whole frame is searched.
+        """
+        if region is not None:
+            st = self.options.stride
+            h, w = image.shape[:2]
+            x0, y0 = max(0, region[0] // st * st), max(0, region[1] // st * st)
+            x1, y1 = min(w, region[2]), min(h, region[3])
+            if x1 - x0 > 2 * st and y1 - y0 > 2 * st:
+                sub_mask = None if mask is None else mask[y0:y1, x0:x1]
+                loc = self._locate(image[y0:y1, x0:x1], sub_mask, h)
+                if loc.found:
+                    return ShirtLocation(loc.x + x0, loc.y + y0, loc.scale, loc.uniformity,
+                                         True)
+        return self._locate(image, mask, image.shape[0])
+
+    def _locate(self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None,
+                frame_height: int) -> ShirtLocation:
         o = self.options
-        maps = self.uniformity_maps(image, mask)
+        maps = self.uniformity_maps(image, mask, frame_height)
         u_max = max((float(u.max()) for _, u in maps if u.size), default=0.0)
         if u_max <= 0.0:
             return ShirtLocation(image.shape[1] / 2, image.shape[0] / 2, 0.0, 0.0, False)

@@ -68,6 +68,9 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
+_SEARCH_REACH = 1.0
+"""How far around the shirt's last box (in box sizes) the histogram search looks first."""
+
 _MAX_NOISE_GROWTH = 2.5
 """Most pixels the noise-aware classification may add, relative to the plain one."""
 
@@ -247,7 +250,12 @@ class ColorShirtTracker:
             # where the shirt was a frame ago always counts as foreground
             bx0, by0, bx1, by1 = st.last_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
-        loc = self.locator.locate(image, mask)
+        region = None
+        if st.last_box is not None:  # search near the shirt's last position first
+            bx0, by0, bx1, by1 = st.last_box
+            reach = _SEARCH_REACH * max(bx1 - bx0, by1 - by0)
+            region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
+        loc = self.locator.locate(image, mask, region)
         if not loc.found:
             return None
         h, w = image.shape[:2]
