@@ -38,7 +38,8 @@ class ColorShirtOptions:
       ``crop_margin`` its size relative to the located window; ``blob_fraction``:
       classified blobs smaller than this fraction of the largest are dropped.
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
-      as seeing the shirt (else the frame is lost).
+      as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
+      share of the crop a patch must cover to become an IK anchor.
     * ``measurement_noise``: std (RGB units) of the camera's measurement error that
       a strong white balance amplifies; the classifier widens every color's Gaussian
       by the amplified part (beyond the paper, which uses the fitted covariances as
@@ -102,6 +103,12 @@ class ColorShirtOptions:
             raise ConfigError("crop_margin must be at least 1 (the located window itself)")
         if not 1 <= self.ik_rounds <= 5:
             raise ConfigError("ik_rounds must be between 1 and 5")
+        for name, value in (("wb_smoothing", self.wb_smoothing),
+                            ("blob_fraction", self.blob_fraction),
+                            ("min_color_fraction", self.min_color_fraction),
+                            ("min_patch_fraction", self.min_patch_fraction)):
+            if not (np.isfinite(value) and 0 <= value < 1):
+                raise ConfigError(f"{name} must be a fraction within [0, 1), got {value}")
         if not 1 <= self.min_colors <= 10:
             raise ConfigError("min_colors must be between 1 and 10")
         if not 0 < self.max_mismatch <= 1:
