@@ -161,7 +161,10 @@ def _convert(name: str, text: str, hint: object) -> object:
                              for row in t.split(";"))
             return tuple(float(p) for p in parts)
     except ValueError:
-        raise ConfigError(f"option {name}: cannot read {text!r} as {hint}") from None
+        kind = ("true or false" if hint is bool else
+                f"a number ({hint.__name__})" if hint in (int, float) else
+                "comma-separated numbers" if origin is tuple else str(hint))
+        raise ConfigError(f"option {name}: cannot read {text!r}; expected {kind}") from None
     return t
 
 
