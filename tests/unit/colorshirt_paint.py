@@ -6,6 +6,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.shirt import SHIRT_COLORS
+from bodyplay.capture.camera import Camera, look_at
+
+
+def webcam_rig(n: int = 2) -> tuple[Camera, ...]:
+    """The first ``n`` of two 640x480 webcams 2.8 m in front of a standing person."""
+    out = []
+    for i, x in enumerate((-0.6, 0.7)[:n]):
+        R, t = look_at((x, 1.35, 2.8), (0, 1.15, 0))
+        out.append(Camera.from_fov(f"cam{i}", 640, 480, 60, R, t))
+    return tuple(out)
 
 
 def clutter(h: int, w: int, rng: np.random.Generator) -> NDArray[np.uint8]:

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from colorshirt_paint import clutter
+from colorshirt_paint import clutter, webcam_rig
 
 from bodyplay.body import Skeleton
 from bodyplay.body.mesh import body_mesh
 from bodyplay.body.shirt import patch_colors_rgb
-from bodyplay.capture.camera import Camera, look_at
+from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import Frame, FrameSet
 from bodyplay.errors import ConfigError
 from bodyplay.motion import sample_poses
@@ -28,14 +28,6 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 from bodyplay.trackers.colorshirt.database import build_database
 
 REF = Skeleton.from_shape("m")
-
-
-def _cams() -> tuple[Camera, ...]:
-    out = []
-    for i, x in enumerate((-0.6, 0.7)):
-        R, t = look_at((x, 1.35, 2.8), (0, 1.15, 0))
-        out.append(Camera.from_fov(f"cam{i}", 640, 480, 60, R, t))
-    return tuple(out)
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +67,7 @@ def _capture(shape: str, n: int, cams: tuple[Camera, ...], arms: float = 1.0
 
 
 def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: ignore[no-untyped-def]
-    cams = _cams()
+    cams = webcam_rig()
     tr = create_colorshirt_tracker(
         ColorShirtOptions(body="auto", body_selection_frames=4, arm_selection_frames=0,
                           background_subtraction=False),
@@ -110,14 +102,14 @@ def test_with_arm_scale_changes_only_the_arm_bones() -> None:
 def test_arm_variants_keep_the_preset_itself_under_its_name() -> None:
     from bodyplay.trackers.colorshirt.bodyselect import BodyModel
 
-    base = BodyModel.build("m", _cams())
-    variants = arm_variants(base, _cams(), (0.9, 1.0))
+    base = BodyModel.build("m", webcam_rig())
+    variants = arm_variants(base, webcam_rig(), (0.9, 1.0))
     assert set(variants) == {"m", "m*0.90"} and variants["m"] is base
     assert 1.0 in ARM_SCALES and min(ARM_SCALES) < 0.9
 
 
 def test_auto_body_then_finds_that_the_arms_are_short(db) -> None:  # type: ignore[no-untyped-def]
-    cams = _cams()
+    cams = webcam_rig()
     tr = create_colorshirt_tracker(
         ColorShirtOptions(body="auto", body_selection_frames=3, arm_selection_frames=4,
                           background_subtraction=False), cams, database=db)

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from colorshirt_paint import clutter
+from colorshirt_paint import clutter, webcam_rig
 
 from bodyplay.body import UPPER_BODY, Skeleton
 from bodyplay.body.mesh import body_mesh
 from bodyplay.body.shirt import patch_colors_rgb
-from bodyplay.capture.camera import Camera, look_at
+from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import Frame, FrameSet
 from bodyplay.errors import CaptureError, ConfigError, TimestampError
 from bodyplay.motion import sample_poses
@@ -25,14 +25,6 @@ from bodyplay.trackers.colorshirt.database import build_database
 from bodyplay.trackers.colorshirt.views import share_light_change
 
 SK = Skeleton()
-
-
-def _cams(n: int) -> tuple[Camera, ...]:
-    out = []
-    for i, x in enumerate((-0.6, 0.7)[:n]):
-        R, t = look_at((x, 1.35, 2.8), (0, 1.15, 0))
-        out.append(Camera.from_fov(f"cam{i}", 640, 480, 60, R, t))
-    return tuple(out)
 
 
 @pytest.fixture(scope="module")
@@ -71,7 +63,7 @@ def _truth(seed: int) -> np.ndarray:
 
 
 def test_tracker_implements_the_protocol_and_reports_upper_body_only(db) -> None:  # type: ignore[no-untyped-def]
-    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    tr = create_colorshirt_tracker(ColorShirtOptions(), webcam_rig(1), database=db)
     assert isinstance(tr, Tracker)
     assert tr.capabilities.joints == UPPER_BODY and tr.capabilities.upper_body_only
 
@@ -82,7 +74,7 @@ def test_tracker_finds_a_painted_shirt_pose(db, ncam, limit_cm) -> None:  # type
     always tell an arm reaching forward from one reaching back (here one of the three
     poses, seed 12, comes out mirrored in depth), so it is judged by the median."""
     rng = np.random.default_rng(1)
-    cams = _cams(ncam)
+    cams = webcam_rig(ncam)
     tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False), cams,
                                    database=db)
     errs = []
@@ -103,7 +95,7 @@ def test_tracker_finds_a_painted_shirt_pose(db, ncam, limit_cm) -> None:  # type
 
 def test_tracker_reports_lost_without_a_shirt_and_never_invents_a_pose(db) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(2)
-    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    tr = create_colorshirt_tracker(ColorShirtOptions(), webcam_rig(1), database=db)
     img = clutter(480, 640, rng)
     img[100:200, 100:300] = (230, 40, 40)  # a red poster is not a shirt
     for i in range(3):
@@ -113,7 +105,7 @@ def test_tracker_reports_lost_without_a_shirt_and_never_invents_a_pose(db) -> No
 
 def test_tracker_recovers_white_balance_under_a_color_cast(db) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(3)
-    cams = _cams(2)
+    cams = webcam_rig(2)
     tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False), cams,
                                    database=db)
     q = _truth(21)
@@ -124,7 +116,7 @@ def test_tracker_recovers_white_balance_under_a_color_cast(db) -> None:  # type:
 
 
 def test_tracker_rejects_frames_out_of_order_and_wrong_camera_counts(db) -> None:  # type: ignore[no-untyped-def]
-    tr = create_colorshirt_tracker(ColorShirtOptions(), _cams(1), database=db)
+    tr = create_colorshirt_tracker(ColorShirtOptions(), webcam_rig(1), database=db)
     img = clutter(480, 640, np.random.default_rng(4))
     tr.process(_frameset([img], 5))
     with pytest.raises(TimestampError):
@@ -152,7 +144,7 @@ def test_options_reject_a_measurement_noise_that_lets_background_in() -> None:
 
 def test_tracker_reports_lost_when_the_body_jumps_faster_than_a_person_moves(db) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(5)
-    cams = _cams(2)
+    cams = webcam_rig(2)
     tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False, body="m"),
                                    cams, database=db)
     q = _truth(11)
@@ -177,7 +169,7 @@ def test_options_reject_a_non_positive_max_speed() -> None:
 
 
 def test_a_light_change_seen_by_one_camera_is_passed_to_one_that_lost_the_shirt(db) -> None:  # type: ignore[no-untyped-def]
-    tr = create_colorshirt_tracker(ColorShirtOptions(body="m"), _cams(2), database=db)
+    tr = create_colorshirt_tracker(ColorShirtOptions(body="m"), webcam_rig(2), database=db)
     W0 = np.diag([0.95, 1.05, 1.0])
     W1 = np.diag([1.1, 0.9, 1.05])
     M = np.diag([1.4, 1.3, 1.1])  # the warm lamp went off
