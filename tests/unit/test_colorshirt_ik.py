@@ -109,3 +109,23 @@ def test_patch_stats_counts_centroids_and_mean_depths_per_id() -> None:
     assert mean_depth[4] == (7 * 2.0 + 4.0) / 8
     assert mean_depth[20] == 0.0  # an infinite depth (nothing rendered) adds nothing
     assert patch_stats(ids)[1] is None
+
+
+def test_root_prior_pins_the_depth_one_camera_cannot_tell() -> None:
+    from bodyplay.trackers.colorshirt.ik import RootPrior
+
+    cam = _cams()[:1]
+    sol = KinematicSolver(SK, cam)
+    q_true = SK.pose(root=(0.0, 0.95, 0.0))
+    a = _anchors(sol, q_true, q_true)
+    # the anchors hold exactly at the truth; a prior 30 cm deeper must move the root
+    # back along the camera's axis, a prior at the true depth must keep it
+    depth = float(cam[0].world_to_camera(q_true[None, :3])[0, 2])
+    for offset in (0.0, 0.3):
+        prior = RootPrior.camera_depth(cam[0], depth + offset, 0.01)
+        q = sol.solve_global(q_true, a, root_priors=(prior,))
+        got = float(cam[0].world_to_camera(q[None, :3])[0, 2])
+        assert abs(got - (depth + offset)) < (0.02 if offset == 0 else 0.1)
+        q_ik = sol.solve_ik(q_true, a, default_prior_model(), None, root_priors=(prior,))
+        got_ik = float(cam[0].world_to_camera(q_ik[None, :3])[0, 2])
+        assert abs(got_ik - depth) < 0.02 if offset == 0 else got_ik - depth > 0.1

@@ -36,6 +36,9 @@ def register(subparsers: Any) -> None:
     span.add_argument("--seconds", type=float, help="seconds to render (default: to the end)")
     span.add_argument("--frames", type=int, help="number of frames to render")
     p.add_argument("--start", type=float, default=0.0, help="start time in the clip, seconds")
+    p.add_argument("--lead-in", type=float, default=0.0, metavar="SECONDS",
+                   help="seconds of the empty room before the clip (a background plate for "
+                        "trackers; truth joints are null there)")
     p.add_argument("--fps", type=float, default=30.0)
     p.add_argument("--size", default="640x480", help="WIDTHxHEIGHT (default 640x480)")
     p.add_argument("--background", default="brick", help="shipped name, #rrggbb or image file")
@@ -76,7 +79,8 @@ def _options_and_run(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     clip = args.clip
     if Path(clip).exists():
         clip = str(Path(clip).resolve())
-    run_info = {"clip": clip, "start": args.start, "seconds": args.seconds, "frames": args.frames}
+    run_info = {"clip": clip, "start": args.start, "seconds": args.seconds, "frames": args.frames,
+                "lead_in": args.lead_in}
     return options, run_info
 
 
@@ -107,16 +111,20 @@ def run(args: argparse.Namespace) -> int:
     length = seconds if seconds is not None else (
         None if frames is None else frames / options.fps
     )
+    lead_in = float(run_info.get("lead_in") or 0.0)
+    if not 0.0 <= lead_in <= 60.0:
+        raise ConfigError(f"--lead-in {lead_in} must be within 0..60 seconds")
     part = clip.slice(start, length)
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        camera = SyntheticCamera(options, part, actor=actor)
+        # lights that change (switch, flicker) do so over the whole recording
+        camera = SyntheticCamera(options, part, actor=actor, duration=lead_in + part.duration)
     for w in caught:
         print(f"bodyplay synth: warning: {w.message}", file=sys.stderr)
     with camera:
         summary = write_capture(
-            args.out, camera, camera.from_clip(frames=frames), run=run_info
+            args.out, camera, camera.from_clip(frames=frames, lead_in=lead_in), run=run_info
         )
     dt = time.perf_counter() - t0
     print(

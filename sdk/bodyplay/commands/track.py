@@ -113,6 +113,11 @@ def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
                 cv2.circle(out, tuple(int(v) for v in uv[j]), 4, col, -1, cv2.LINE_AA)
     else:
         cv2.putText(out, "lost", (10, 30), cv2.FONT_HERSHEY_SIMPLEX, 1.0, (255, 0, 0), 2)
+    for idx, feet in result.extras.get("feet", []):
+        if idx == camera_index:  # where the floor cue saw the feet touch the floor
+            for f in feet:
+                cv2.drawMarker(out, (int(f.u), int(f.v)), (255, 0, 255), cv2.MARKER_TILTED_CROSS,
+                               12, 2, cv2.LINE_AA)
     return out
 
 
@@ -129,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
     ms: list[float] = []
     writer_box: list[Any] = [None]
     try:
-        n, found = _track_all(args, src, cams, tracker, ms, writer_box)
+        n, found, floor = _track_all(args, src, cams, tracker, ms, writer_box)
     finally:
         # the overlay is playable up to the last frame even if tracking failed
         if writer_box[0] is not None:
@@ -142,17 +147,23 @@ def run(args: argparse.Namespace) -> int:
         requested = getattr(getattr(tracker, "options", None), "body", args.body)
         how = "chosen on the first frames" if requested == "auto" else "as requested"
         print(f"body preset: {body} ({how})")
+    if getattr(getattr(tracker, "options", None), "floor_cue", False) and found:
+        print(f"floor cue: feet seen on the floor in {floor} of the {found} frame sets with a "
+              "pose" + ("" if floor else " (it needs a background plate: start the capture "
+                                         "with a second of the empty room)"))
     return 0
 
 
 def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracker: Any,
-               ms: list[float], writer_box: list[Any]) -> tuple[int, int]:
+               ms: list[float], writer_box: list[Any]) -> tuple[int, int, int]:
     """The tracking loop of :func:`run`: poses to ``args.out`` (flushed per record),
-    overlay frames to the writer it opens in ``writer_box``."""
+    overlay frames to the writer it opens in ``writer_box``. Returns the frame sets
+    read, those with a pose and those of them that used the floor cue."""
     from bodyplay.capture.frames import FrameSet
     from bodyplay.capture.jsonl import PoseJsonlWriter
 
     n = found = 0
+    floor = 0
     with src, PoseJsonlWriter(args.out) as out:
         for fs in src:
             if args.frames is not None and n >= args.frames:
@@ -162,6 +173,7 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
             out.write(result.to_json())
             n += 1
             found += int(result.found)
+            floor += int(result.found and bool(result.extras.get("floor_cue")))
             ms.append(result.ms)
             if args.overlay:
                 img = draw_overlay(fs.frames[0].image, result, cams[0])
@@ -171,4 +183,4 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
                         args.overlay, cv2.VideoWriter.fourcc(*"mp4v"), src.fps, (w, h)
                     )
                 writer_box[0].write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
-    return n, found
+    return n, found, floor

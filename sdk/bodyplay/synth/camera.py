@@ -69,7 +69,8 @@ class SynthFrame:
     """One synthetic capture instant: the frames of every camera and the truth.
 
     ``joints`` (17, 3) world metres in JOINT_NAMES order (the actor skeleton's FK
-    for ``pose``); ``t`` seconds since the first frame; ``index`` the frame number.
+    for ``pose``; NaN, written as null, in the empty-room frames of a lead-in);
+    ``t`` seconds since the first frame; ``index`` the frame number.
     """
 
     frames: FrameSet
@@ -84,7 +85,9 @@ class SynthFrame:
             "frame": self.index,
             "t": round(self.t, 6),
             "joints": {
-                n: [round(float(x), 5) for x in self.joints[i]] for i, n in enumerate(JOINT_NAMES)
+                n: ([round(float(x), 5) for x in self.joints[i]]
+                    if np.all(np.isfinite(self.joints[i])) else None)
+                for i, n in enumerate(JOINT_NAMES)
             },
         }
 
@@ -290,11 +293,14 @@ class SyntheticCamera:
         return out
 
     def _render_meshes(
-        self, verts: NDArray[np.float32], normals: NDArray[np.float32], t: float
+        self, verts: NDArray[np.float32] | None, normals: NDArray[np.float32] | None, t: float
     ) -> list[RenderMesh]:
         from bodyplay.render.shaded import RenderMesh
 
-        meshes = [RenderMesh(verts, self._faces, self._colors, normals, closed=self._closed_mesh)]
+        meshes = []
+        if verts is not None:
+            meshes.append(RenderMesh(verts, self._faces, self._colors, normals,
+                                     closed=self._closed_mesh))
         for p in self._occluders(t):
             meshes.append(RenderMesh(p.vertices, p.faces, _lin_colors(
                 np.round(p.colors * 255).astype(np.uint8)), p.normals))
@@ -313,16 +319,23 @@ class SyntheticCamera:
         return int(min(self.options.max_subframes, max(1, math.ceil(d / _BLUR_STEP_PX))))
 
     def _expose(
-        self, t: float, sub_poses: NDArray[np.float64]
+        self, t: float, sub_poses: NDArray[np.float64] | None
     ) -> list[_Exposure]:
-        """Render sub-frame poses (n, D) of every camera, summed on the GPU (GL thread)."""
+        """Render sub-frame poses (n, D) of every camera, summed on the GPU (GL thread).
+
+        ``None`` renders the empty room (occluders and background, no actor).
+        """
         if self._closed:
             raise ConfigError("this SyntheticCamera was closed; create a new one")
         gl = self._gl()
-        verts = self.actor.mesh.pose(self.skeleton, sub_poses)
         state = self._preset.state(t, self.duration)
-        normals = self._normals(verts)
-        meshes_per_sub = [self._render_meshes(v, n, t) for v, n in zip(verts, normals, strict=True)]
+        if sub_poses is None:
+            meshes_per_sub = [self._render_meshes(None, None, t)]
+        else:
+            verts = self.actor.mesh.pose(self.skeleton, sub_poses)
+            normals = self._normals(verts)
+            meshes_per_sub = [self._render_meshes(v, n, t)
+                              for v, n in zip(verts, normals, strict=True)]
         out = []
         for ci, cam in enumerate(self._pinhole):
             acc = gl.accumulate(meshes_per_sub, cam, lights=self._lights(state, cam))
@@ -351,7 +364,10 @@ class SyntheticCamera:
             rng = np.random.default_rng([self.options.seed, index, ci])
             image = self._sensor.develop(linear, rng)
             frames.append(Frame(image, t, index, self.cameras[ci].name))
-        joints = self.skeleton.joint_positions(pose)
+        if np.all(np.isfinite(pose)):
+            joints = self.skeleton.joint_positions(pose)
+        else:  # the empty room: nobody to have a truth of
+            joints = np.full((len(JOINT_NAMES), 3), np.nan)
         return SynthFrame(FrameSet(tuple(frames), t, index), joints, pose, t, index)
 
     def _shoot(
@@ -416,13 +432,20 @@ class SyntheticCamera:
         start: float = 0.0,
         seconds: float | None = None,
         frames: int | None = None,
+        lead_in: float = 0.0,
     ) -> Iterator[SynthFrame]:
         """Render a clip (default: the camera's) from ``start`` s for ``seconds`` or ``frames``.
 
         Frames are at ``i / fps`` (t counts from ``start``); each integrates the
         clip's motion over the preset's exposure, centred on the frame time, which is
-        also the time of the truth joints.
+        also the time of the truth joints. ``lead_in`` seconds of the empty room
+        (background, lights and occluders, no actor; truth joints null) come first,
+        as when a game asks the player to step out of view while it learns the
+        background; the clip's frames follow them in numbering and time.
         """
+        if not (math.isfinite(lead_in) and 0.0 <= lead_in <= 60.0):
+            raise ConfigError(f"lead_in {lead_in} must be within 0..60 seconds")
+        n_lead = int(round(lead_in * self.fps))
         src = clip if clip is not None else self.clip
         if src is None:
             raise ConfigError("from_clip needs a clip: pass one here or to SyntheticCamera")
@@ -445,6 +468,12 @@ class SyntheticCamera:
         pending: deque[Future[SynthFrame]] = deque()
         with ThreadPoolExecutor(max_workers=1, thread_name_prefix="synth-develop") as pool:
             try:
+                empty = np.full(self.skeleton.pose_dim, np.nan)
+                for i in range(n_lead):
+                    t = i / self.fps
+                    pending.append(pool.submit(self._develop, t, i, empty, self._expose(t, None)))
+                    if len(pending) > _PIPELINE_DEPTH:
+                        yield pending.popleft().result()
                 for i in range(n):
                     c = i * _SUBSTEPS
                     pose = fine.poses[c]
@@ -458,9 +487,9 @@ class SyntheticCamera:
                         sub = fine.poses[idx]
                     else:
                         sub = pose[None]
-                    t = i / self.fps
+                    t = (n_lead + i) / self.fps
                     exposures = self._expose(t, sub)
-                    pending.append(pool.submit(self._develop, t, i, pose, exposures))
+                    pending.append(pool.submit(self._develop, t, n_lead + i, pose, exposures))
                     if len(pending) > _PIPELINE_DEPTH:
                         yield pending.popleft().result()
                 while pending:

@@ -39,6 +39,7 @@ __all__ = [
     "ik_dofs",
     "PatchAnchors",
     "PriorModel",
+    "RootPrior",
     "KinematicSolver",
     "default_prior_model",
 ]
@@ -244,6 +245,28 @@ def default_prior_model() -> PriorModel:
     return PriorModel(0.02, tuple(blend), tuple(prev))
 
 
+@dataclass(frozen=True)
+class RootPrior:
+    """A Gaussian prior on one linear coordinate of the root position.
+
+    ``direction . root`` should be near ``target`` with standard deviation ``std``
+    (metres). With ``direction`` a camera's optical axis in world coordinates and
+    ``target`` the root's depth minus the camera's ``t[2]``, it pins the root's depth
+    in that camera, which one camera alone cannot tell from the body's size.
+    """
+
+    direction: tuple[float, float, float]
+    target: float
+    std: float
+
+    @classmethod
+    def camera_depth(cls, camera: Camera, depth: float, std: float) -> RootPrior:
+        """The root at ``depth`` metres along ``camera``'s optical axis."""
+        axis = camera.R[2]
+        return cls((float(axis[0]), float(axis[1]), float(axis[2])),
+                   float(depth - camera.t[2]), float(std))
+
+
 @dataclass
 class _Problem:
     q_template: NDArray[np.float64]
@@ -253,6 +276,7 @@ class _Problem:
     prior_targets: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = field(
         default_factory=list
     )
+    root_priors: tuple[RootPrior, ...] = ()
 
 
 class KinematicSolver:
@@ -314,7 +338,8 @@ class KinematicSolver:
         n_a = len(a)
         n_x = len(free)
         priors = pb.prior_targets
-        n_res = 2 * n_a + n_x * len(priors) + int(lim.sum())
+        n_rp = len(pb.root_priors)
+        n_res = 2 * n_a + n_x * len(priors) + n_rp + int(lim.sum())
         if n_res < n_x:  # LM needs at least as many residuals as unknowns
             return q0
         inv_soft = 1.0 / 0.02
@@ -331,7 +356,12 @@ class KinematicSolver:
         J_out = np.zeros((n_res, n_x))
         for k in range(len(priors)):
             J_out[2 * n_a + k * n_x: 2 * n_a + (k + 1) * n_x] = np.diag(priors[k][1])
-        lim_rows = 2 * n_a + n_pr + np.arange(len(lim_idx))
+        rp_dir = np.array([r.direction for r in pb.root_priors]).reshape(n_rp, 3)
+        rp_w = np.array([1.0 / r.std for r in pb.root_priors])
+        rp_t = np.array([r.target for r in pb.root_priors]) * rp_w
+        if n_rp:  # the root position is free dofs 0..2
+            J_out[2 * n_a + n_pr: 2 * n_a + n_pr + n_rp, :3] = rp_dir * rp_w[:, None]
+        lim_rows = 2 * n_a + n_pr + n_rp + np.arange(len(lim_idx))
         eps = 1e-6
         steps = np.eye(n_x) * eps
 
@@ -341,9 +371,11 @@ class KinematicSolver:
             r_out[: 2 * n_a] = proj.ravel() * inv_s - tgt
             if n_pr:
                 r_out[2 * n_a: 2 * n_a + n_pr] = (np.tile(x, len(priors)) - targets) * inv_std
+            if n_rp:
+                r_out[2 * n_a + n_pr: 2 * n_a + n_pr + n_rp] = (rp_dir @ x[:3]) * rp_w - rp_t
             if len(lim_idx):
                 xl = x[lim_idx]
-                r_out[2 * n_a + n_pr:] = (np.maximum(xl - hi_l, 0.0)
+                r_out[2 * n_a + n_pr + n_rp:] = (np.maximum(xl - hi_l, 0.0)
                                           + np.minimum(xl - lo_l, 0.0)) * inv_soft
             return r_out.copy()
 
@@ -380,7 +412,8 @@ class KinematicSolver:
         return out
 
     def solve_global(self, q: NDArray[np.float64], anchors: PatchAnchors,
-                     max_nfev: int = 10) -> NDArray[np.float64]:
+                     max_nfev: int = 10, root_priors: tuple[RootPrior, ...] = ()
+                     ) -> NDArray[np.float64]:
         """6-DOF fit: root position and pelvis orientation; the articulation is kept.
 
         The blend's arms may be wrong, and a rigid fit would then twist the whole
@@ -397,7 +430,8 @@ class KinematicSolver:
         free = np.asarray(GLOBAL_DOFS, dtype=np.int64)
         # the database placement is a fair guess: stds 0.3 m and 0.3 rad
         prior = [(qd[free].copy(), np.array([3.3, 3.3, 3.3, 3.3, 3.3, 3.3]))]
-        out = self._solve(_Problem(qd, R0, free, anchors, prior), max_nfev, limits=False)
+        out = self._solve(_Problem(qd, R0, free, anchors, prior, root_priors), max_nfev,
+                          limits=False)
         return self._compose_root(out, R0)
 
     def solve_ik(
@@ -408,6 +442,7 @@ class KinematicSolver:
         q_prev: NDArray[np.float64] | None,
         max_nfev: int = 10,
         q_start: NDArray[np.float64] | None = None,
+        root_priors: tuple[RootPrior, ...] = (),
     ) -> NDArray[np.float64]:
         """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
 
@@ -431,5 +466,6 @@ class KinematicSolver:
                 priors.append((as_delta(q_prev), 1.0 / np.asarray(prior.previous)))
         else:
             priors.append((as_delta(q_blend), np.full(len(free), 0.5)))
-        out = self._solve(_Problem(qd, R0, free, anchors, priors), max_nfev, limits=True)
+        out = self._solve(_Problem(qd, R0, free, anchors, priors, root_priors), max_nfev,
+                          limits=True)
         return self._compose_root(out, R0)

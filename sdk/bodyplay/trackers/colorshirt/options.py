@@ -56,6 +56,11 @@ class ColorShirtOptions:
       reproject best is kept; then its arm-length variants (``ARM_SCALES``, 0.84-1
       times its arms) are compared the same way over ``arm_selection_frames``
       frames (0 = keep the preset's arms).
+    * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
+      from where the feet meet the floor (beyond the paper; needs a background
+      plate, learned on empty-room frames before the shirt first appears);
+      ``floor_offset`` (m) is the pelvis's depth minus the feet's, ``floor_std`` (m)
+      the prior's standard deviation.
     """
 
     adaptive_white_balance: bool = True
@@ -86,6 +91,9 @@ class ColorShirtOptions:
     body: str = "auto"
     body_selection_frames: int = 20
     arm_selection_frames: int = 10
+    floor_cue: bool = True
+    floor_offset: float = 0.02
+    floor_std: float = 0.05
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -125,6 +133,10 @@ class ColorShirtOptions:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if not 0 <= self.arm_selection_frames <= 300:
             raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
+        if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
+            raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
+        if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
+            raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
 from bodyplay.trackers.colorshirt.database import PoseDatabase
+from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FeetPoint
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
 from bodyplay.trackers.colorshirt.prediction import CropWindow
 from bodyplay.trackers.colorshirt.whitebalance import ReferenceIlluminations
@@ -39,6 +40,11 @@ class CameraState:
     references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
     last_box: tuple[int, int, int, int] | None = None
     last_fraction: float | None = None
+    plate: BackgroundPlate = field(default_factory=BackgroundPlate)
+    seen_shirt: bool = False
+    """Whether the shirt was found since the last reset (the plate then stops learning)."""
+    feet: tuple[FeetPoint, ...] = ()
+    """This frame's lowest point of each visible foot, when the plate shows them."""
 
 
 @dataclass(eq=False)

@@ -1,0 +1,198 @@
+"""Where the feet meet the floor: a depth cue for one camera, from a background plate.
+
+One camera cannot tell a small person near from a tall one far: the shirt alone
+fixes only the ratio of size to distance. The feet can: they stand on the floor
+(world ``y = 0``), so the ray through the lowest pixel of the person meets the
+floor at the person's distance. Beyond the paper.
+
+Finding the feet needs a foreground mask that keeps legs that do not move, which
+an adaptive subtractor (MOG2) does not: it absorbs a still person within frames.
+:class:`BackgroundPlate` therefore learns the empty room (as a game does when it
+asks the player to step out of view for a moment) and afterwards updates only
+away from the person, correcting the plate for global changes of light by a gain
+per channel measured there. :func:`feet_points` takes the lowest foreground pixels
+of each foot of the blob below the shirt; :func:`floor_depth` turns them into a depth along the
+camera's axis.
+
+Without a plate (no empty-room frames yet) the cue is simply absent and the
+tracker falls back on the shirt's size.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.capture.camera import Camera
+
+__all__ = ["BackgroundPlate", "FeetPoint", "feet_points", "floor_depth", "person_region"]
+
+Box = tuple[int, int, int, int]
+
+
+class BackgroundPlate:
+    """The empty room as seen by one camera, at reduced resolution (OpenCV running mean).
+
+    While nobody is in view (:meth:`learn`), every pixel follows the frames; once
+    ``min_frames`` such frames were seen the plate is :attr:`ready`. While a person
+    is tracked (:meth:`update_around`), only pixels outside the person's region
+    follow, slowly, so that a player who stands still never fades into the plate.
+    """
+
+    def __init__(self, downscale: int = 2, min_frames: int = 8, rate: float = 0.02,
+                 threshold: float = 40.0) -> None:
+        self.downscale = max(1, int(downscale))
+        self.min_frames = int(min_frames)
+        self.rate = float(rate)
+        self.threshold = float(threshold)
+        """Summed absolute difference over R, G, B (0..765) that counts as foreground."""
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the plate."""
+        self._mean: NDArray[np.float32] | None = None
+        self._frames = 0
+
+    @property
+    def ready(self) -> bool:
+        """Whether enough empty-room frames were seen to trust the plate."""
+        return self._frames >= self.min_frames
+
+    def small(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
+        """``image`` at the plate's resolution, as float32."""
+        h, w = image.shape[:2]
+        if self.downscale > 1:
+            image = np.asarray(cv2.resize(image, (w // self.downscale, h // self.downscale),
+                                          interpolation=cv2.INTER_AREA), np.uint8)
+        return image.astype(np.float32)
+
+    def learn(self, small: NDArray[np.float32]) -> None:
+        """A frame with nobody in view: the plate follows it (a running mean)."""
+        if self._mean is None or self._mean.shape != small.shape:
+            self._mean = small.copy()
+            self._frames = 1
+            return
+        self._frames += 1
+        alpha = max(1.0 / self._frames, 0.1)
+        cv2.accumulateWeighted(small, self._mean, alpha)
+
+    def update_around(self, small: NDArray[np.float32], person: Box) -> None:
+        """A tracked frame: pixels outside ``person`` (plate pixels) follow slowly."""
+        if self._mean is None:
+            return
+        keep = np.ones(small.shape[:2], np.uint8)
+        x0, y0, x1, y1 = person
+        keep[max(y0, 0): max(y1, 0), max(x0, 0): max(x1, 0)] = 0
+        cv2.accumulateWeighted(small, self._mean, self.rate, mask=keep)
+
+    def foreground(self, small: NDArray[np.float32], person: Box) -> NDArray[np.bool_] | None:
+        """Foreground mask of ``small`` within ``person`` (False elsewhere).
+
+        The plate is first scaled by the light's change.
+
+        The change is one gain per channel: the ratio of the frame's mean to the
+        plate's over the pixels outside ``person``. None before the plate is ready.
+        """
+        if not self.ready or self._mean is None:
+            return None
+        outside = np.ones(small.shape[:2], np.uint8)
+        x0, y0, x1, y1 = person
+        outside[max(y0, 0): max(y1, 0), max(x0, 0): max(x1, 0)] = 0
+        plate = self._mean
+        if int(np.count_nonzero(outside)) > 100:
+            f = np.array(cv2.mean(small, mask=outside)[:3])
+            p = np.array(cv2.mean(plate, mask=outside)[:3])
+            gain = np.clip(f / np.maximum(p, 1.0), 0.05, 20.0).astype(np.float32)
+        else:
+            gain = np.ones(3, np.float32)
+        # only the person's region is compared (the rest is plate by assumption)
+        ys = slice(max(y0, 0), max(y1, 0))
+        xs = slice(max(x0, 0), max(x1, 0))
+        diff = cv2.transform(cv2.absdiff(small[ys, xs], plate[ys, xs] * gain),
+                             np.ones((1, 3), np.float32))
+        fg = np.zeros(small.shape[:2], np.uint8)
+        fg[ys, xs] = cv2.morphologyEx((diff > self.threshold).astype(np.uint8), cv2.MORPH_OPEN,
+                                      np.ones((3, 3), np.uint8))
+        return fg > 0
+
+
+@dataclass(frozen=True)
+class FeetPoint:
+    """The lowest point of the person in an image (full-resolution pixels)."""
+
+    u: float
+    v: float
+
+
+def person_region(shirt: Box, width: int, height: int) -> Box:
+    """Where the person may be, from the shirt's box: around it and down to the floor."""
+    x0, y0, x1, y1 = shirt
+    w, h = x1 - x0, y1 - y0
+    return (max(0, x0 - w), max(0, y0 - h), min(width, x1 + w), height)
+
+
+def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int) -> tuple[FeetPoint, ...]:
+    """The lowest point of each foot of the blob the shirt belongs to (none, one or two).
+
+    ``fg`` is a plate-resolution mask, ``shirt`` the shirt's box in full-resolution
+    pixels. The feet are the runs of columns whose lowest blob pixel lies in the
+    blob's lowest tenth; the two lowest runs count (a foot hidden behind the other
+    leaves one). Nothing is returned when the shirt's box holds little foreground
+    (the plate does not fit the scene), when the blob reaches the image's lower edge
+    (feet out of view) or when nothing of it lies below the shirt (no legs).
+    """
+    s = downscale
+    h, w = fg.shape
+    x0, y0, x1, y1 = (int(c // s) for c in shirt)
+    x0, x1 = max(x0, 0), min(x1, w)
+    y0, y1 = max(y0, 0), min(y1, h)
+    if x1 - x0 < 2 or y1 - y0 < 2 or fg[y0:y1, x0:x1].mean() < 0.3:
+        return ()
+    bw = x1 - x0
+    rx0, rx1 = max(0, x0 - bw), min(w, x1 + bw)
+    band = np.ascontiguousarray(fg[y0:, rx0:rx1]).astype(np.uint8)
+    _, labels, _, _ = cv2.connectedComponentsWithStats(band, connectivity=8)
+    inside = labels[: y1 - y0, x0 - rx0: x1 - rx0]
+    ids = np.unique(inside[inside > 0])
+    if not len(ids):
+        return ()
+    body = np.isin(labels, ids)
+    rows = np.nonzero(body.sum(axis=1) >= 2)[0]
+    if not len(rows):
+        return ()
+    bottom = int(rows.max())
+    if y0 + bottom >= h - 2 or bottom < (y1 - y0):
+        return ()  # feet below the image, or no legs below the shirt
+    # lowest blob pixel of every column (-1: empty column)
+    any_px = body.any(axis=0)
+    lowest = np.where(any_px, body.shape[0] - 1 - np.argmax(body[::-1], axis=0), -1)
+    foot_cols = lowest >= bottom - max(2, int(0.1 * bottom))
+    runs: list[tuple[int, int]] = []
+    for x in np.nonzero(foot_cols)[0]:
+        if runs and x - runs[-1][1] <= 2:
+            runs[-1] = (runs[-1][0], int(x))
+        else:
+            runs.append((int(x), int(x)))
+    runs.sort(key=lambda r: -int(lowest[r[0]: r[1] + 1].max()))
+    out = []
+    for a, b in runs[:2]:
+        v = int(lowest[a: b + 1].max())
+        out.append(FeetPoint((rx0 + 0.5 * (a + b) + 0.5) * s, (y0 + v + 1.0) * s))
+    return tuple(out)
+
+
+def floor_depth(camera: Camera, feet: FeetPoint) -> float | None:
+    """Depth along ``camera``'s axis where the ray through ``feet`` meets the floor y = 0.
+
+    None when the ray does not go down to the floor in front of the camera.
+    """
+    ray_cam = np.linalg.solve(camera.K, np.array([feet.u, feet.v, 1.0]))
+    ray_world = camera.R.T @ ray_cam
+    center = camera.center
+    if ray_world[1] >= -1e-6 or center[1] <= 0.0:
+        return None
+    s = -center[1] / ray_world[1]  # ray_cam has z = 1, so s is the depth
+    return float(s) if s > 0.3 else None

@@ -1,0 +1,100 @@
+"""Specifications of the floor cue: background plate, feet, depth of the feet."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.capture.camera import Camera, look_at
+from bodyplay.trackers.colorshirt.floor import (
+    BackgroundPlate,
+    FeetPoint,
+    feet_points,
+    floor_depth,
+    person_region,
+)
+
+SHIRT = (280, 120, 360, 240)  # full-resolution box of the shirt
+
+
+def _room(seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    tile = rng.integers(60, 200, (24, 32, 3)).astype(np.uint8)
+    return np.kron(tile, np.ones((20, 20, 1), np.uint8))  # 480x640 blocks of colour
+
+
+def _person(room: np.ndarray, feet_v: int = 420, gain: float = 1.0) -> np.ndarray:
+    img = np.clip(room.astype(np.float64) * gain, 0, 255).astype(np.uint8)
+    x0, y0, x1, y1 = SHIRT
+    img[y0:y1, x0:x1] = (200, 40, 40)  # shirt
+    img[y1:feet_v, x0 + 6: x0 + 32] = (20, 20, 60)  # left leg
+    img[y1:feet_v, x1 - 32: x1 - 6] = (20, 20, 60)  # right leg
+    return img
+
+
+def _learned(room: np.ndarray, frames: int = 10) -> BackgroundPlate:
+    plate = BackgroundPlate()
+    for _ in range(frames):
+        plate.learn(plate.small(room))
+    return plate
+
+
+def _feet(plate: BackgroundPlate, image: np.ndarray) -> tuple[FeetPoint, ...]:
+    small = plate.small(image)
+    h, w = small.shape[:2]
+    region = tuple(c // 2 for c in person_region(SHIRT, w * 2, h * 2))
+    fg = plate.foreground(small, region)  # type: ignore[arg-type]
+    assert fg is not None
+    return feet_points(fg, SHIRT, plate.downscale)
+
+
+def test_plate_is_not_ready_until_enough_empty_room_frames() -> None:
+    room = _room()
+    plate = _learned(room, frames=3)
+    assert not plate.ready
+    assert plate.foreground(plate.small(room), (0, 0, 10, 10)) is None
+    assert _learned(room, frames=8).ready
+
+
+def test_feet_points_finds_the_bottom_of_both_legs() -> None:
+    room = _room()
+    feet = _feet(_learned(room), _person(room, feet_v=420))
+    assert len(feet) == 2
+    us = sorted(f.u for f in feet)
+    assert abs(us[0] - 299) < 6 and abs(us[1] - 341) < 6
+    assert all(abs(f.v - 420) <= 2 for f in feet)
+
+
+def test_feet_survive_a_change_of_light_over_the_whole_room() -> None:
+    room = _room()
+    feet = _feet(_learned(room), _person(room, feet_v=400, gain=0.55))
+    assert len(feet) == 2 and all(abs(f.v - 400) <= 2 for f in feet)
+
+
+def test_a_player_standing_still_does_not_fade_into_the_plate() -> None:
+    room = _room()
+    plate = _learned(room)
+    frame = _person(room, feet_v=410)
+    small = plate.small(frame)
+    region = tuple(c // 2 for c in person_region(SHIRT, 640, 480))
+    for _ in range(300):
+        plate.update_around(small, region)  # type: ignore[arg-type]
+    assert len(_feet(plate, frame)) == 2
+
+
+def test_no_feet_when_the_legs_leave_the_image_or_the_plate_does_not_fit() -> None:
+    room = _room()
+    plate = _learned(room)
+    assert _feet(plate, _person(room, feet_v=480)) == ()
+    wrong = _learned(_person(room, feet_v=420))  # the "empty room" had the player in it
+    assert _feet(wrong, _person(room, feet_v=420)) == ()
+
+
+def test_floor_depth_is_the_depth_of_the_floor_point_under_the_pixel() -> None:
+    R, t = look_at((0.3, 0.9, 3.0), (0.0, 0.9, 0.0))
+    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
+    point = np.array([[0.1, 0.0, 0.2]])
+    u, v = cam.project(point)[0]
+    depth = float(cam.world_to_camera(point)[0, 2])
+    assert floor_depth(cam, FeetPoint(float(u), float(v))) == pytest.approx(depth, abs=1e-6)
+    assert floor_depth(cam, FeetPoint(320.0, 100.0)) is None  # above the horizon
