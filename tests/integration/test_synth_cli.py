@@ -43,6 +43,22 @@ def test_synth_writes_a_capture_folder_whose_truth_lands_on_the_actor(synth_gl, 
     assert meta["frames"] == 4
 
 
+def test_lead_in_renders_the_empty_room_first_with_null_truth(synth_gl, tmp_path):
+    out = tmp_path / "cap"
+    assert main(["synth", *ARGS, "--background", "plain", "--lead-in", "0.1", "--out",
+                 str(out)]) == 0
+    truth = read_pose_jsonl(out / "truth.jsonl")
+    assert list(truth.frames) == list(range(7))  # 3 empty-room frames, then the 4 of the clip
+    assert np.allclose(truth.t, np.arange(7) / 30.0)
+    assert not truth.reported[:3].any() and truth.reported[3:].all()
+    with CaptureFolderSource(out) as src:
+        images = [fs.frames[0].image.astype(int) for fs in src]
+    wall = np.median(images[0].reshape(-1, 3), axis=0)
+    assert np.abs(images[0] - wall).sum(axis=2).max() < 40  # nobody there
+    assert (np.abs(images[3] - wall).sum(axis=2) > 40).mean() > 0.01  # the actor
+    assert json.loads((out / "meta.json").read_text())["run"]["lead_in"] == 0.1
+
+
 def test_same_seed_gives_same_png_bytes_and_repeat_from_meta_too(synth_gl, tmp_path):
     a, b, c = tmp_path / "a", tmp_path / "b", tmp_path / "c"
     assert main(["synth", *ARGS, "--lighting", "switch", "--out", str(a)]) == 0

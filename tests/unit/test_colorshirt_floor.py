@@ -98,3 +98,23 @@ def test_floor_depth_is_the_depth_of_the_floor_point_under_the_pixel() -> None:
     depth = float(cam.world_to_camera(point)[0, 2])
     assert floor_depth(cam, FeetPoint(float(u), float(v))) == pytest.approx(depth, abs=1e-6)
     assert floor_depth(cam, FeetPoint(320.0, 100.0)) is None  # above the horizon
+
+
+def test_floor_watch_learns_the_room_until_the_shirt_appears_then_finds_feet() -> None:
+    from bodyplay.trackers.colorshirt.floor import FloorWatch
+
+    room = _room()
+    watch = FloorWatch()
+    for _ in range(10):
+        watch.start(room)
+        watch.no_shirt()
+    player = _person(room, feet_v=415)
+    watch.start(player)
+    watch.shirt_at(SHIRT)
+    assert watch.last_feet == ()  # nothing searched yet
+    assert len(watch.feet()) == 2 and watch.last_feet == watch.feet()
+    watch.start(player)
+    watch.no_shirt()  # the shirt was seen: a lost frame does not teach the plate the player
+    watch.start(player)
+    watch.shirt_at(SHIRT)
+    assert len(watch.feet()) == 2

@@ -28,7 +28,9 @@ from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
 
-__all__ = ["BackgroundPlate", "FeetPoint", "feet_points", "floor_depth", "person_region"]
+__all__ = [
+    "BackgroundPlate", "FeetPoint", "FloorWatch", "feet_points", "floor_depth", "person_region",
+]
 
 Box = tuple[int, int, int, int]
 
@@ -61,10 +63,10 @@ class BackgroundPlate:
         """Whether enough empty-room frames were seen to trust the plate."""
         return self._frames >= self.min_frames
 
-    def small(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
-        """``image`` at the plate's resolution, as float32."""
+    def small(self, image: NDArray[np.uint8], reduced: bool = False) -> NDArray[np.float32]:
+        """``image`` at the plate's resolution, as float32 (``reduced``: it already is)."""
         h, w = image.shape[:2]
-        if self.downscale > 1:
+        if self.downscale > 1 and not reduced:
             image = np.asarray(cv2.resize(image, (w // self.downscale, h // self.downscale),
                                           interpolation=cv2.INTER_AREA), np.uint8)
         return image.astype(np.float32)
@@ -98,13 +100,16 @@ class BackgroundPlate:
         """
         if not self.ready or self._mean is None:
             return None
-        outside = np.ones(small.shape[:2], np.uint8)
+        # the gain is measured on every 4th pixel of every 4th row: plenty for a mean
+        step = 4
+        outside = np.ones((-(-small.shape[0] // step), -(-small.shape[1] // step)), np.uint8)
         x0, y0, x1, y1 = person
-        outside[max(y0, 0): max(y1, 0), max(x0, 0): max(x1, 0)] = 0
+        outside[max(y0, 0) // step: -(-max(y1, 0) // step),
+                max(x0, 0) // step: -(-max(x1, 0) // step)] = 0
         plate = self._mean
-        if int(np.count_nonzero(outside)) > 100:
-            f = np.array(cv2.mean(small, mask=outside)[:3])
-            p = np.array(cv2.mean(plate, mask=outside)[:3])
+        if int(np.count_nonzero(outside)) > 50:
+            f = np.array(cv2.mean(small[::step, ::step], mask=outside)[:3])
+            p = np.array(cv2.mean(plate[::step, ::step], mask=outside)[:3])
             gain = np.clip(f / np.maximum(p, 1.0), 0.05, 20.0).astype(np.float32)
         else:
             gain = np.ones(3, np.float32)
@@ -196,3 +201,62 @@ def floor_depth(camera: Camera, feet: FeetPoint) -> float | None:
         return None
     s = -center[1] / ray_world[1]  # ray_cam has z = 1, so s is the depth
     return float(s) if s > 0.3 else None
+
+
+class FloorWatch:
+    """One camera's floor cue across frames: its plate, and each frame's feet on demand.
+
+    Per frame: :meth:`start` with the image, then :meth:`no_shirt` or
+    :meth:`shirt_at`; :meth:`feet` finds the feet only when asked (the tracker asks
+    when one camera alone sees the shirt), so a second camera costs only the plate.
+    """
+
+    def __init__(self, plate: BackgroundPlate | None = None) -> None:
+        self.plate = plate or BackgroundPlate()
+        self.seen_shirt = False
+        """Whether the shirt was found since the last reset (the plate then stops
+        learning the whole frame)."""
+        self._small: NDArray[np.float32] | None = None
+        self._shirt: Box | None = None
+        self._feet: tuple[FeetPoint, ...] | None = None
+
+    def start(self, image: NDArray[np.uint8], reduced: bool = False) -> None:
+        """A new frame (undistorted RGB, full resolution, or already at the plate's
+        resolution when ``reduced``)."""
+        self._small = self.plate.small(image, reduced)
+        self._shirt = None
+        self._feet = None
+
+    def no_shirt(self) -> None:
+        """No shirt in this frame: before the first shirt, the plate learns the room."""
+        if self._small is not None and not self.seen_shirt:
+            self.plate.learn(self._small)
+
+    def shirt_at(self, shirt: Box) -> None:
+        """The shirt's box (full-resolution px) in this frame; the plate moves on around it."""
+        self.seen_shirt = True
+        self._shirt = shirt
+        if self._small is not None:
+            self.plate.update_around(self._small, self._region_small())
+
+    def _region_small(self) -> Box:
+        assert self._small is not None and self._shirt is not None
+        d = self.plate.downscale
+        h, w = self._small.shape[:2]
+        x0, y0, x1, y1 = person_region(self._shirt, w * d, h * d)
+        return (x0 // d, y0 // d, -(-x1 // d), -(-y1 // d))
+
+    def feet(self) -> tuple[FeetPoint, ...]:
+        """This frame's feet (see :func:`feet_points`); empty without a plate or shirt."""
+        if self._feet is None:
+            self._feet = ()
+            if self._small is not None and self._shirt is not None:
+                fg = self.plate.foreground(self._small, self._region_small())
+                if fg is not None:
+                    self._feet = feet_points(fg, self._shirt, self.plate.downscale)
+        return self._feet
+
+    @property
+    def last_feet(self) -> tuple[FeetPoint, ...]:
+        """The feet found this frame, without searching for them (for overlays)."""
+        return self._feet or ()

@@ -273,14 +273,23 @@ class BackgroundMask:
         )
         self._frames = 0
 
-    def apply(self, image: NDArray[np.uint8]) -> NDArray[np.bool_] | None:
-        """Update the model with an RGB frame; the dilated foreground mask or None."""
+    def reduce(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
+        """``image`` at the model's resolution (what :meth:`apply` works on)."""
         h, w = image.shape[:2]
-        small = image
-        if self.downscale > 1:
-            small = np.asarray(cv2.resize(
-                image, (w // self.downscale, h // self.downscale), interpolation=cv2.INTER_AREA
-            ), dtype=np.uint8)
+        if self.downscale == 1:
+            return image
+        return np.asarray(cv2.resize(image, (w // self.downscale, h // self.downscale),
+                                     interpolation=cv2.INTER_AREA), dtype=np.uint8)
+
+    def apply(self, image: NDArray[np.uint8], small: NDArray[np.uint8] | None = None
+              ) -> NDArray[np.bool_] | None:
+        """Update the model with an RGB frame; the dilated foreground mask or None.
+
+        ``small`` is the frame already reduced by :meth:`reduce`, if the caller has it.
+        """
+        h, w = image.shape[:2]
+        if small is None:
+            small = self.reduce(image)
         fg = self._sub.apply(small)
         self._frames += 1
         if self._frames <= self.warmup:

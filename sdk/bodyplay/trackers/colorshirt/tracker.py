@@ -41,7 +41,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.floor import feet_points, floor_depth, person_region
+from bodyplay.trackers.colorshirt.floor import floor_depth
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -56,14 +56,13 @@ from bodyplay.trackers.colorshirt.views import (
     WHITE_ID,
     CameraState,
     CameraView,
+    classify_camera,
     clean_ids,
     make_query,
     share_light_change,
 )
 from bodyplay.trackers.colorshirt.whitebalance import (
     ReferenceIlluminations,
-    auto_white_balance,
-    classification_score,
     white_balance_from_ids,
 )
 
@@ -71,9 +70,6 @@ __all__ = ["ColorShirtTracker", "CameraView"]
 
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
-
-_MAX_NOISE_GROWTH = 2.5
-"""Most pixels the noise-aware classification may add, relative to the plain one."""
 
 _TORSO = {p.id for p in PATCHES if p.bone in ("thorax", "lumbar")}
 _JOINT_PATCHES: dict[str, set[int]] = {
@@ -193,63 +189,21 @@ class ColorShirtTracker:
         return np.asarray(m1, np.float32), np.asarray(m2, np.float32)
 
     # ---- per camera: locate, classify, query -----------------------------------------
-    def _classify(self, st: CameraState, crop: NDArray[np.uint8],
-                  mask: NDArray[np.bool_] | None, fg: NDArray[np.bool_]
-                  ) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
-        o = self.options
-        model = self.color_model
-        ys, xs = np.nonzero(fg)
-        if len(xs):  # the automatic search looks at the located window, mostly shirt
-            sub = (slice(ys.min(), ys.max() + 1), slice(xs.min(), xs.max() + 1))
-        else:
-            sub = (slice(None), slice(None))
-        sub_mask = None if mask is None else mask[sub]
-        if st.W is None:
-            auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
-                                      candidates=list(st.references.matrices))
-            st.W = auto.W
-            if o.adaptive_white_balance:
-                st.references.add(auto.W)
-        assert st.W is not None
-        cls = model.classify(crop, st.W, o.threshold, mask)
-        W = st.W
-        frac = cls.fraction_classified(fg)
-        # the paper's test (under 40% classified), plus a sudden halving of the
-        # classified share: a light switched on or off
-        sudden = st.last_fraction is not None and frac < 0.5 * st.last_fraction
-        if o.adaptive_white_balance and (frac < o.retry_fraction or sudden):
-            best = st.references.best(crop, model, mask, o.threshold)
-            if best is not None and np.count_nonzero(best[1].ids) > np.count_nonzero(cls.ids):
-                W, cls = best
-            frac2 = cls.fraction_classified(fg)
-            if frac2 < 0.5 * o.retry_fraction or (
-                st.last_fraction is not None and frac2 < 0.5 * st.last_fraction
-            ):
-                auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
-                                          candidates=list(st.references.matrices))
-                cls2 = model.classify(crop, auto.W, o.threshold, mask)
-                if classification_score(cls2.ids) > classification_score(cls.ids):
-                    W, cls = auto.W, cls2
-            st.W = W
-        st.last_fraction = cls.fraction_classified(fg)
-        if self._noise_model is not self.color_model:
-            # W was chosen with the plain model (a looser one would favour large gains);
-            # the classification itself allows for the noise W amplifies, unless that
-            # more than doubles what the plain model found: background creeping in
-            wide = self._noise_model.classify(crop, W, o.threshold, mask)
-            if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
-                cls = wide
-        return W, cls.ids
-
     def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
         o = self.options
         st = self._cams[i]
         maps = self._undistort[i]
         if maps is not None:
             image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
-        mask = st.background.apply(image) if o.background_subtraction else None
-        small = st.plate.small(image) if o.floor_cue else None
-        st.feet = ()
+        reduced = None
+        if o.background_subtraction or o.floor_cue:
+            reduced = st.background.reduce(image)  # MOG2 and the plate share it
+        mask = st.background.apply(image, reduced) if o.background_subtraction else None
+        if o.floor_cue:
+            if st.background.downscale == st.floor.plate.downscale:
+                st.floor.start(reduced, reduced=True)  # type: ignore[arg-type]
+            else:
+                st.floor.start(image)
         if mask is not None and st.last_box is not None:
             # a person standing still fades into the background model: the region
             # where the shirt was a frame ago always counts as foreground
@@ -262,8 +216,8 @@ class ColorShirtTracker:
             region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
         loc = self.locator.locate(image, mask, region)
         if not loc.found:
-            if small is not None and not st.seen_shirt:
-                st.plate.learn(small)  # nobody in view yet: the empty room
+            if o.floor_cue:
+                st.floor.no_shirt()
             return None
         h, w = image.shape[:2]
         x0, y0, x1, y1 = loc.box(o.crop_margin)
@@ -290,7 +244,7 @@ class ColorShirtTracker:
         fg[max(0, int(cy - half)) : int(cy + half), max(0, int(cx - half)) : int(cx + half)] = True
         if cmask is not None:
             fg &= cmask
-        W, ids = self._classify(st, crop, cmask, fg)
+        W, ids = classify_camera(st, crop, cmask, fg, self.color_model, self._noise_model, o)
         ids = clean_ids(ids, self.options.blob_fraction)
         counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
         min_px = max(4, int(o.min_color_fraction * ids.size))
@@ -306,25 +260,10 @@ class ColorShirtTracker:
         bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
         pad = 0.15 * (bhi - blo).max()
         st.last_box = (int(blo[0] - pad), int(blo[1] - pad), int(bhi[0] + pad), int(bhi[1] + pad))
-        st.seen_shirt = True
-        if small is not None:
-            self._find_feet(st, small, (int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])))
+        if o.floor_cue:
+            st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])))
         make_query(view, self.database, lo, hi)
         return view
-
-    @staticmethod
-    def _find_feet(st: CameraState, small: NDArray[np.float32], shirt: tuple[int, int, int, int]
-                   ) -> None:
-        """The lowest point of the person below ``shirt`` (image px); the plate moves on."""
-        plate = st.plate
-        d = plate.downscale
-        h, w = small.shape[:2]
-        region = person_region(shirt, w * d, h * d)
-        region_small = (region[0] // d, region[1] // d, -(-region[2] // d), -(-region[3] // d))
-        fg = plate.foreground(small, region_small)
-        if fg is not None:
-            st.feet = feet_points(fg, shirt, d)
-        plate.update_around(small, region_small)
 
     def _floor_priors(self, views: list[CameraView]) -> tuple[RootPrior, ...]:
         """Root-depth prior of a lone camera that sees where the feet meet the floor.
@@ -334,12 +273,12 @@ class ColorShirtTracker:
         the cue only serves a frame that one camera sees.
         """
         o = self.options
-        if len(views) != 1:
+        if len(views) != 1 or not o.floor_cue:
             return ()
         out = []
         for v in views:
             cam = self.cameras[v.index]
-            depths = [z for f in self._cams[v.index].feet
+            depths = [z for f in self._cams[v.index].floor.feet()
                       if (z := floor_depth(cam, f)) is not None]
             if depths:
                 z = float(np.mean(depths))
@@ -653,6 +592,6 @@ class ColorShirtTracker:
                            extras={"cameras_used": [v.index for v in views],
                                    "mismatch": 1.0 - match,
                                    "classified": [(v.index, v.window, v.ids) for v in views],
-                                   "feet": [(v.index, self._cams[v.index].feet)
+                                   "feet": [(v.index, self._cams[v.index].floor.last_feet)
                                             for v in views],
                                    "floor_cue": bool(self._root_priors)})

@@ -2,13 +2,15 @@
 between frames (:class:`CameraState`), one camera's share of a frame
 (:class:`CameraView`: crop, classification, database query), the clean-up of a
 classification (:func:`clean_ids`) and the normalized database query
-(:func:`make_query`), and passing a change of light from one camera to the
+(:func:`make_query`), the per-camera white balance and classification
+(:func:`classify_camera`), and passing a change of light from one camera to the
 others (:func:`share_light_change`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
@@ -16,13 +18,25 @@ from numpy.typing import NDArray
 
 from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FeetPoint
+from bodyplay.trackers.colorshirt.floor import FloorWatch
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
 from bodyplay.trackers.colorshirt.prediction import CropWindow
-from bodyplay.trackers.colorshirt.whitebalance import ReferenceIlluminations
+from bodyplay.trackers.colorshirt.whitebalance import (
+    ReferenceIlluminations,
+    auto_white_balance,
+    classification_score,
+)
 
-__all__ = ["CameraState", "CameraView", "WHITE_ID", "clean_ids", "make_query",
-           "share_light_change"]
+if TYPE_CHECKING:
+    from bodyplay.trackers.colorshirt.colors import ColorModel
+    from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+
+__all__ = ["CameraState", "CameraView", "WHITE_ID", "classify_camera", "clean_ids",
+           "make_query", "share_light_change"]
+
+_MAX_NOISE_GROWTH = 2.5
+"""The noise-aware classification is kept unless it finds this many times the pixels
+of the plain one (then background is creeping in)."""
 
 LIGHT_JUMP = 0.25
 """Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
@@ -40,11 +54,8 @@ class CameraState:
     references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
     last_box: tuple[int, int, int, int] | None = None
     last_fraction: float | None = None
-    plate: BackgroundPlate = field(default_factory=BackgroundPlate)
-    seen_shirt: bool = False
-    """Whether the shirt was found since the last reset (the plate then stops learning)."""
-    feet: tuple[FeetPoint, ...] = ()
-    """This frame's lowest point of each visible foot, when the plate shows them."""
+    floor: FloorWatch = field(default_factory=FloorWatch)
+    """The background plate and the feet on the floor (the one-camera depth cue)."""
 
 
 @dataclass(eq=False)
@@ -154,3 +165,56 @@ def share_light_change(states: list[CameraState], before: list[NDArray[np.float6
             st.references.add(st.W)
             st.last_fraction = None
     return M
+
+
+def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.bool_] | None,
+                    fg: NDArray[np.bool_], model: ColorModel, noise_model: ColorModel,
+                    o: ColorShirtOptions) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
+    """Step 1 for one camera: choose ``W`` (automatic, kept, or a stored reference
+    illumination after a light change) and classify the crop; ``st`` remembers ``W``.
+
+    ``fg`` is the paper's "supposedly foreground" (the located window, masked);
+    ``noise_model`` is ``model`` widened for the noise ``W`` amplifies (or ``model``).
+    """
+    ys, xs = np.nonzero(fg)
+    if len(xs):  # the automatic search looks at the located window, mostly shirt
+        sub = (slice(ys.min(), ys.max() + 1), slice(xs.min(), xs.max() + 1))
+    else:
+        sub = (slice(None), slice(None))
+    sub_mask = None if mask is None else mask[sub]
+    if st.W is None:
+        auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
+                                  candidates=list(st.references.matrices))
+        st.W = auto.W
+        if o.adaptive_white_balance:
+            st.references.add(auto.W)
+    assert st.W is not None
+    cls = model.classify(crop, st.W, o.threshold, mask)
+    W = st.W
+    frac = cls.fraction_classified(fg)
+    # the paper's test (under 40% classified), plus a sudden halving of the
+    # classified share: a light switched on or off
+    sudden = st.last_fraction is not None and frac < 0.5 * st.last_fraction
+    if o.adaptive_white_balance and (frac < o.retry_fraction or sudden):
+        best = st.references.best(crop, model, mask, o.threshold)
+        if best is not None and np.count_nonzero(best[1].ids) > np.count_nonzero(cls.ids):
+            W, cls = best
+        frac2 = cls.fraction_classified(fg)
+        if frac2 < 0.5 * o.retry_fraction or (
+            st.last_fraction is not None and frac2 < 0.5 * st.last_fraction
+        ):
+            auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
+                                      candidates=list(st.references.matrices))
+            cls2 = model.classify(crop, auto.W, o.threshold, mask)
+            if classification_score(cls2.ids) > classification_score(cls.ids):
+                W, cls = auto.W, cls2
+        st.W = W
+    st.last_fraction = cls.fraction_classified(fg)
+    if noise_model is not model:
+        # W was chosen with the plain model (a looser one would favour large gains);
+        # the classification itself allows for the noise W amplifies, unless that
+        # more than doubles what the plain model found: background creeping in
+        wide = noise_model.classify(crop, W, o.threshold, mask)
+        if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
+            cls = wide
+    return W, cls.ids
