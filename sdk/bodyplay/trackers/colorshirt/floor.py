@@ -159,7 +159,7 @@ def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int) -> tuple[Feet
     bw = x1 - x0
     rx0, rx1 = max(0, x0 - bw), min(w, x1 + bw)
     band = np.ascontiguousarray(fg[y0:, rx0:rx1]).astype(np.uint8)
-    _, labels, _, _ = cv2.connectedComponentsWithStats(band, connectivity=8)
+    _, labels = cv2.connectedComponents(band, connectivity=8)
     inside = labels[: y1 - y0, x0 - rx0: x1 - rx0]
     ids = np.unique(inside[inside > 0])
     if not len(ids):

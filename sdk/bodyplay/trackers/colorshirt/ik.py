@@ -376,7 +376,7 @@ class KinematicSolver:
             if len(lim_idx):
                 xl = x[lim_idx]
                 r_out[2 * n_a + n_pr + n_rp:] = (np.maximum(xl - hi_l, 0.0)
-                                          + np.minimum(xl - lo_l, 0.0)) * inv_soft
+                                                 + np.minimum(xl - lo_l, 0.0)) * inv_soft
             return r_out.copy()
 
         def jac(x: NDArray[np.float64]) -> NDArray[np.float64]:

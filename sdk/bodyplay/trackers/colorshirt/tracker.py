@@ -41,7 +41,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.floor import floor_depth
+from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch, floor_depth
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -67,6 +67,9 @@ from bodyplay.trackers.colorshirt.whitebalance import (
 )
 
 __all__ = ["ColorShirtTracker", "CameraView"]
+
+_REDUCE = 2
+"""Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
 
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
@@ -142,8 +145,9 @@ class ColorShirtTracker:
         """Forget the previous pose, learned illuminations and backgrounds."""
         init = self.options.initial_white_balance
         self._cams = [
-            CameraState(BackgroundMask(downscale=2),
-                         references=ReferenceIlluminations(self.options.reference_distance))
+            CameraState(BackgroundMask(downscale=_REDUCE),
+                         references=ReferenceIlluminations(self.options.reference_distance),
+                         floor=FloorWatch(BackgroundPlate(downscale=_REDUCE)))
             for _ in self.cameras
         ]
         if init is not None:
@@ -199,11 +203,8 @@ class ColorShirtTracker:
         if o.background_subtraction or o.floor_cue:
             reduced = st.background.reduce(image)  # MOG2 and the plate share it
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
-        if o.floor_cue:
-            if st.background.downscale == st.floor.plate.downscale:
-                st.floor.start(reduced, reduced=True)  # type: ignore[arg-type]
-            else:
-                st.floor.start(image)
+        if reduced is not None and o.floor_cue:
+            st.floor.start(reduced, reduced=True)
         if mask is not None and st.last_box is not None:
             # a person standing still fades into the background model: the region
             # where the shirt was a frame ago always counts as foreground
@@ -275,15 +276,13 @@ class ColorShirtTracker:
         o = self.options
         if len(views) != 1 or not o.floor_cue:
             return ()
-        out = []
-        for v in views:
-            cam = self.cameras[v.index]
-            depths = [z for f in self._cams[v.index].floor.feet()
-                      if (z := floor_depth(cam, f)) is not None]
-            if depths:
-                z = float(np.mean(depths))
-                out.append(RootPrior.camera_depth(cam, z + o.floor_offset, o.floor_std))
-        return tuple(out)
+        cam = self.cameras[views[0].index]
+        depths = [z for f in self._cams[views[0].index].floor.feet()
+                  if (z := floor_depth(cam, f)) is not None]
+        if not depths:
+            return ()
+        return (RootPrior.camera_depth(cam, float(np.mean(depths)) + o.floor_offset,
+                                       o.floor_std),)
 
     # ---- pose estimation -------------------------------------------------------------
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
