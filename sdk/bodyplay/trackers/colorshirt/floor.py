@@ -219,6 +219,8 @@ class FloorWatch:
         self._small: NDArray[np.float32] | None = None
         self._shirt: Box | None = None
         self._feet: tuple[FeetPoint, ...] | None = None
+        self._fg: NDArray[np.bool_] | None = None
+        self._fg_done = False
 
     def start(self, image: NDArray[np.uint8], reduced: bool = False) -> None:
         """A new frame (undistorted RGB, full resolution, or already at the plate's
@@ -226,6 +228,8 @@ class FloorWatch:
         self._small = self.plate.small(image, reduced)
         self._shirt = None
         self._feet = None
+        self._fg = None
+        self._fg_done = False
 
     def no_shirt(self) -> None:
         """No shirt in this frame: before the first shirt, the plate learns the room."""
@@ -246,14 +250,22 @@ class FloorWatch:
         x0, y0, x1, y1 = person_region(self._shirt, w * d, h * d)
         return (x0 // d, y0 // d, -(-x1 // d), -(-y1 // d))
 
+    def foreground(self) -> NDArray[np.bool_] | None:
+        """This frame's foreground around the person (plate resolution), computed once
+        per frame on demand; None without a plate or a shirt."""
+        if not self._fg_done:
+            self._fg_done = True
+            if self._small is not None and self._shirt is not None:
+                self._fg = self.plate.foreground(self._small, self._region_small())
+        return self._fg
+
     def feet(self) -> tuple[FeetPoint, ...]:
         """This frame's feet (see :func:`feet_points`); empty without a plate or shirt."""
         if self._feet is None:
             self._feet = ()
-            if self._small is not None and self._shirt is not None:
-                fg = self.plate.foreground(self._small, self._region_small())
-                if fg is not None:
-                    self._feet = feet_points(fg, self._shirt, self.plate.downscale)
+            fg = self.foreground()
+            if fg is not None and self._shirt is not None:
+                self._feet = feet_points(fg, self._shirt, self.plate.downscale)
         return self._feet
 
     @property

@@ -61,6 +61,11 @@ class ColorShirtOptions:
       plate, learned on empty-room frames before the shirt first appears);
       ``floor_offset`` (m) is the pelvis's depth minus the feet's, ``floor_std`` (m)
       the prior's standard deviation.
+    * ``head_cue``: in every camera, the head found in the plate's foreground above
+      the collar constrains the head joint in the IK (beyond the paper; needs the
+      plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
+      centre lies above the joint, ``head_std`` (m) the constraint's standard
+      deviation.
     """
 
     adaptive_white_balance: bool = True
@@ -94,6 +99,9 @@ class ColorShirtOptions:
     floor_cue: bool = True
     floor_offset: float = 0.02
     floor_std: float = 0.05
+    head_cue: bool = True
+    head_offset: float = 0.02
+    head_std: float = 0.02
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -137,6 +145,10 @@ class ColorShirtOptions:
             raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
         if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
             raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
+        if not (np.isfinite(self.head_offset) and abs(self.head_offset) <= 0.2):
+            raise ConfigError("head_offset must be within -0.2..0.2 m (default 0.02)")
+        if not (np.isfinite(self.head_std) and 0.002 <= self.head_std <= 1.0):
+            raise ConfigError("head_std must be within 0.002..1 m (default 0.02)")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):

@@ -40,8 +40,14 @@ from bodyplay.trackers.colorshirt.bodyselect import (
     reprojection_residual,
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
+from bodyplay.trackers.colorshirt.cues import (
+    HEAD_PATCH,
+    floor_root_priors,
+    head_anchors,
+    join_anchors,
+)
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch, floor_depth
+from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -200,10 +206,11 @@ class ColorShirtTracker:
         if maps is not None:
             image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
         reduced = None
-        if o.background_subtraction or o.floor_cue:
+        plate = o.floor_cue or o.head_cue
+        if o.background_subtraction or plate:
             reduced = st.background.reduce(image)  # MOG2 and the plate share it
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
-        if reduced is not None and o.floor_cue:
+        if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
         if mask is not None and st.last_box is not None:
             # a person standing still fades into the background model: the region
@@ -217,7 +224,7 @@ class ColorShirtTracker:
             region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
         loc = self.locator.locate(image, mask, region)
         if not loc.found:
-            if o.floor_cue:
+            if plate:
                 st.floor.no_shirt()
             return None
         h, w = image.shape[:2]
@@ -261,28 +268,10 @@ class ColorShirtTracker:
         bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
         pad = 0.15 * (bhi - blo).max()
         st.last_box = (int(blo[0] - pad), int(blo[1] - pad), int(bhi[0] + pad), int(bhi[1] + pad))
-        if o.floor_cue:
+        if plate:
             st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])))
         make_query(view, self.database, lo, hi)
         return view
-
-    def _floor_priors(self, views: list[CameraView]) -> tuple[RootPrior, ...]:
-        """Root-depth prior of a lone camera that sees where the feet meet the floor.
-
-        Two cameras that see the shirt triangulate its depth better than the feet
-        tell it (on the validation clips the cue made two cameras 0.1 cm worse), so
-        the cue only serves a frame that one camera sees.
-        """
-        o = self.options
-        if len(views) != 1 or not o.floor_cue:
-            return ()
-        cam = self.cameras[views[0].index]
-        depths = [z for f in self._cams[views[0].index].floor.feet()
-                  if (z := floor_depth(cam, f)) is not None]
-        if not depths:
-            return ()
-        return (RootPrior.camera_depth(cam, float(np.mean(depths)) + o.floor_offset,
-                                       o.floor_std),)
 
     # ---- pose estimation -------------------------------------------------------------
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
@@ -395,7 +384,7 @@ class ColorShirtTracker:
                 self.diagnostics["light_change"] = M
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
-        self._root_priors = self._floor_priors(views)
+        self._root_priors = floor_root_priors(self.cameras, self._cams, views, self.options)
         self.diagnostics["floor_priors"] = self._root_priors
         if not views:
             self._prev = None
@@ -542,6 +531,10 @@ class ColorShirtTracker:
         else:
             observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
         anchors = self._anchors(q_b, views, rendered, observed)
+        shirt_only = anchors
+        heads, found = head_anchors(self.skeleton, q_b, self.cameras, self._cams, views, o)
+        anchors = join_anchors(anchors, heads)
+        self.diagnostics["heads"] = found
         self.diagnostics["observed"] = [(v, counts, cents) for v, (counts, cents)
                                         in zip(views, observed, strict=True)]
         q = q_b
@@ -557,10 +550,10 @@ class ColorShirtTracker:
             rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
                         for v in views]
             if round_ + 1 < o.ik_rounds:
-                anchors = self._anchors(q, views, rendered, observed)
+                anchors = join_anchors(self._anchors(q, views, rendered, observed), heads)
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
-        size_px = np.array([size[int(c)] for c in anchors.camera], dtype=np.float64)
-        resid = reprojection_residual(self.solver, q, anchors, size_px)
+        size_px = np.array([size[int(c)] for c in shirt_only.camera], dtype=np.float64)
+        resid = reprojection_residual(self.solver, q, shirt_only, size_px)
         self.diagnostics["residual"] = resid
         return _Fit(q, {int(p) for p in anchors.patch}, resid, views, rendered)
 
@@ -581,7 +574,7 @@ class ColorShirtTracker:
             if name in _JOINT_PATCHES:
                 tracked = bool(seen & _JOINT_PATCHES[name])
             elif name == "head":
-                tracked = False  # no patch on the head: it follows the database blend
+                tracked = HEAD_PATCH in seen  # seen above the collar, else the blend's
             else:
                 tracked = torso_seen
             state.append("tracked" if tracked else "inferred")

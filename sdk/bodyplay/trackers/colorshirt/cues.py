@@ -1,0 +1,111 @@
+"""Cues beyond the shirt, from the background plate: the feet and the head.
+
+Both read the plate's foreground (:class:`.floor.FloorWatch`), so both need the
+empty-room frames the plate learns from; without them they are simply absent.
+
+* :func:`floor_root_priors`: with one camera, where the feet meet the floor fixes
+  the root's depth (:mod:`.floor`).
+* :func:`head_anchors`: in every camera, the head found above the collar
+  (:mod:`.head`) becomes a 2-D constraint on the head joint in the IK, which the
+  shirt's patches leave to the database blend.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.joints import JOINT_INDEX
+from bodyplay.body.shirt import NUM_PATCHES
+from bodyplay.body.skeleton import NODE_NAMES, Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.trackers.colorshirt.floor import floor_depth
+from bodyplay.trackers.colorshirt.head import HEAD_RADIUS, HeadPoint, find_head
+from bodyplay.trackers.colorshirt.ik import PatchAnchors, RootPrior
+from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.views import CameraState, CameraView
+
+__all__ = ["HEAD_PATCH", "floor_root_priors", "head_anchors", "join_anchors"]
+
+HEAD_PATCH = NUM_PATCHES + 1
+"""The ``patch`` id of a head anchor (the shirt's patches are 1..20)."""
+
+_HEAD_NODE = NODE_NAMES.index("head")
+_HEAD_TOP = NODE_NAMES.index("head_top")
+
+
+def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
+                      views: Sequence[CameraView], options: ColorShirtOptions
+                      ) -> tuple[RootPrior, ...]:
+    """Root-depth prior of a lone camera that sees where the feet meet the floor.
+
+    Two cameras that see the shirt triangulate its depth better than the feet tell
+    it (on the validation clips the cue made two cameras 0.1 cm worse), so the cue
+    only serves a frame that one camera sees.
+    """
+    if len(views) != 1 or not options.floor_cue:
+        return ()
+    cam = cameras[views[0].index]
+    depths = [z for f in states[views[0].index].floor.feet()
+              if (z := floor_depth(cam, f)) is not None]
+    if not depths:
+        return ()
+    return (RootPrior.camera_depth(cam, float(np.mean(depths)) + options.floor_offset,
+                                   options.floor_std),)
+
+
+def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],
+                 states: Sequence[CameraState], views: Sequence[CameraView],
+                 options: ColorShirtOptions) -> tuple[PatchAnchors, list[HeadPoint]]:
+    """One anchor on the head per camera whose plate shows the head near pose ``q``.
+
+    The anchor sits ``options.head_offset`` above the head joint along the head's
+    axis (the visible head's centre lies above the joint, which is midway between
+    the ears); its standard deviation is ``options.head_std`` metres at the head's
+    depth.
+    """
+    J = skeleton.joint_positions(q)
+    head_w, neck_w = J[JOINT_INDEX["head"]], J[JOINT_INDEX["neck"]]
+    radius_m = HEAD_RADIUS * float(np.linalg.norm(skeleton.offsets[_HEAD_TOP])) / 0.13
+    found: list[HeadPoint] = []
+    cams: list[int] = []
+    sig: list[float] = []
+    for v in views:
+        if not options.head_cue:
+            break
+        fg = states[v.index].floor.foreground()
+        if fg is None:
+            continue
+        cam = cameras[v.index]
+        z = float(cam.world_to_camera(head_w)[2])
+        if z <= 0.3:
+            continue
+        f = float(cam.K[0, 0])
+        hp = find_head(fg, states[v.index].floor.plate.downscale,
+                       cam.project(head_w, distort=False), cam.project(neck_w, distort=False),
+                       radius_m * f / z)
+        if hp is None:
+            continue
+        found.append(hp)
+        cams.append(v.index)
+        sig.append(options.head_std * f / z)
+    n = len(found)
+    anchors = PatchAnchors(
+        np.full(n, _HEAD_NODE, np.int64),
+        np.tile([0.0, options.head_offset, 0.0], (n, 1)),
+        np.asarray(cams, np.int64),
+        np.array([[h.u, h.v] for h in found], np.float64).reshape(n, 2),
+        np.asarray(sig, np.float64),
+        np.full(n, HEAD_PATCH, np.int64),
+    )
+    return anchors, found
+
+
+def join_anchors(a: PatchAnchors, b: PatchAnchors) -> PatchAnchors:
+    """The anchors of ``a`` followed by those of ``b``."""
+    if len(b) == 0:
+        return a
+    return PatchAnchors(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in
+                          ("node", "local", "camera", "target", "sigma", "patch")))
