@@ -94,11 +94,17 @@ def test_track_rejects_a_folder_without_calibration(tmp_path: Path, capsys) -> N
     assert "error" in capsys.readouterr().err
 
 
+@pytest.fixture(scope="module")
+def lead_in_capture(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One second of motion after half a second of the empty room, two cameras."""
+    return _synth(tmp_path_factory.mktemp("lead_in") / "cap", 1.0, lead_in=0.5)
+
+
 @pytest.mark.gl
 def test_one_camera_uses_the_feet_on_the_floor_after_an_empty_room_lead_in(
-    tmp_path: Path, capsys  # type: ignore[no-untyped-def]
+    tmp_path: Path, capsys, lead_in_capture: Path  # type: ignore[no-untyped-def]
 ) -> None:
-    cap = _synth(tmp_path / "cap", 1.0, lead_in=0.5)
+    cap = lead_in_capture
     args = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c"),
             "--cameras", "1", "--body", "m_slim", "--set", "arm_selection_frames=0"]
     assert main([*args, "--out", str(tmp_path / "floor.jsonl")]) == 0
@@ -120,3 +126,31 @@ def test_one_camera_uses_the_feet_on_the_floor_after_an_empty_room_lead_in(
         z_true = cam.world_to_camera(truth.joints[est.frames[ok], 0])[:, 2]
         errs.append(float(np.abs(z_est - z_true).mean()))
     assert errs[0] < 0.08 and errs[0] < errs[1]
+
+
+@pytest.mark.gl
+def test_head_cue_finds_the_head_above_the_collar_and_brings_the_head_joint_closer(
+    tmp_path: Path, capsys, lead_in_capture: Path  # type: ignore[no-untyped-def]
+) -> None:
+    cap = lead_in_capture
+    args = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c"),
+            "--body", "m_slim", "--set", "arm_selection_frames=0"]
+    assert main([*args, "--out", str(tmp_path / "head.jsonl")]) == 0
+    printed = capsys.readouterr().out
+    used = [line for line in printed.splitlines() if line.startswith("head cue:")]
+    assert used, printed
+    n_used, n_posed = (int(w) for w in used[0].split() if w.isdigit())
+    assert n_posed >= 25 and n_used >= 0.9 * n_posed
+    assert main([*args, "--out", str(tmp_path / "plain.jsonl"), "--set", "head_cue=false"]) == 0
+    assert "head cue:" not in capsys.readouterr().out
+    truth = read_pose_jsonl(cap / "truth.jsonl")
+    errs = []
+    for name in ("head", "plain"):
+        est = read_pose_jsonl(tmp_path / f"{name}.jsonl")
+        ok = est.reported[:, 4] & truth.reported[est.frames, 4]
+        errs.append(float(np.linalg.norm(est.joints[ok, 4] - truth.joints[est.frames[ok], 4],
+                                         axis=1).mean()))
+    assert errs[0] < 0.05 and errs[0] < errs[1], errs
+    states = [json.loads(line)["state"]["head"] for line in
+              (tmp_path / "head.jsonl").read_text().splitlines()]
+    assert states.count("tracked") >= 0.9 * n_posed

@@ -118,6 +118,10 @@ def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
             for f in feet:
                 cv2.drawMarker(out, (int(f.u), int(f.v)), (255, 0, 255), cv2.MARKER_TILTED_CROSS,
                                12, 2, cv2.LINE_AA)
+    for idx, head in result.extras.get("heads", []):
+        if idx == camera_index:  # where the head cue found the head above the collar
+            cv2.circle(out, (int(head.u), int(head.v)), max(2, int(head.radius)), (255, 0, 255),
+                       1, cv2.LINE_AA)
     return out
 
 
@@ -134,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     ms: list[float] = []
     writer_box: list[Any] = [None]
     try:
-        n, found, floor = _track_all(args, src, cams, tracker, ms, writer_box)
+        n, found, floor, heads = _track_all(args, src, cams, tracker, ms, writer_box)
     finally:
         # the overlay is playable up to the last frame even if tracking failed
         if writer_box[0] is not None:
@@ -151,19 +155,24 @@ def run(args: argparse.Namespace) -> int:
         print(f"floor cue: feet seen on the floor in {floor} of the {found} frame sets with a "
               "pose" + ("" if floor else " (it needs a background plate: start the capture "
                                          "with a second of the empty room)"))
+    if getattr(getattr(tracker, "options", None), "head_cue", False) and found:
+        print(f"head cue: head seen above the collar in {heads} of the {found} frame sets with "
+              "a pose" + ("" if heads else " (it needs a background plate: start the capture "
+                                          "with a second of the empty room)"))
     return 0
 
 
 def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracker: Any,
-               ms: list[float], writer_box: list[Any]) -> tuple[int, int, int]:
+               ms: list[float], writer_box: list[Any]) -> tuple[int, int, int, int]:
     """The tracking loop of :func:`run`: poses to ``args.out`` (flushed per record),
     overlay frames to the writer it opens in ``writer_box``. Returns the frame sets
-    read, those with a pose and those of them that used the floor cue."""
+    read, those with a pose and those of them that used the floor cue and the head
+    cue."""
     from bodyplay.capture.frames import FrameSet
     from bodyplay.capture.jsonl import PoseJsonlWriter
 
     n = found = 0
-    floor = 0
+    floor = heads = 0
     with src, PoseJsonlWriter(args.out) as out:
         for fs in src:
             if args.frames is not None and n >= args.frames:
@@ -174,6 +183,7 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
             n += 1
             found += int(result.found)
             floor += int(result.found and bool(result.extras.get("floor_cue")))
+            heads += int(result.found and bool(result.extras.get("heads")))
             ms.append(result.ms)
             if args.overlay:
                 img = draw_overlay(fs.frames[0].image, result, cams[0])
@@ -183,4 +193,4 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
                         args.overlay, cv2.VideoWriter.fourcc(*"mp4v"), src.fps, (w, h)
                     )
                 writer_box[0].write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
-    return n, found, floor
+    return n, found, floor, heads

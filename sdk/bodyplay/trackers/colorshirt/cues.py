@@ -58,8 +58,11 @@ def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
 
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],
                  states: Sequence[CameraState], views: Sequence[CameraView],
-                 options: ColorShirtOptions) -> tuple[PatchAnchors, list[HeadPoint]]:
+                 options: ColorShirtOptions) -> tuple[PatchAnchors, list[tuple[int, HeadPoint]]]:
     """One anchor on the head per camera whose plate shows the head near pose ``q``.
+
+    Returns the anchors and, per camera where the head was found, its index and
+    the :class:`HeadPoint`.
 
     The anchor sits ``options.head_offset`` above the head joint along the head's
     axis (the visible head's centre lies above the joint, which is midway between
@@ -100,7 +103,7 @@ def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[C
         np.asarray(sig, np.float64),
         np.full(n, HEAD_PATCH, np.int64),
     )
-    return anchors, found
+    return anchors, list(zip(cams, found, strict=True))
 
 
 def join_anchors(a: PatchAnchors, b: PatchAnchors) -> PatchAnchors:

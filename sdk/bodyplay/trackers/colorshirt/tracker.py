@@ -586,4 +586,5 @@ class ColorShirtTracker:
                                    "classified": [(v.index, v.window, v.ids) for v in views],
                                    "feet": [(v.index, self._cams[v.index].floor.last_feet)
                                             for v in views],
-                                   "floor_cue": bool(self._root_priors)})
+                                   "floor_cue": bool(self._root_priors),
+                                   "heads": self.diagnostics.get("heads", [])})

@@ -1,0 +1,89 @@
+"""Specifications of the head cue: the head found above the collar, and its anchors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt import ColorShirtOptions
+from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, join_anchors
+from bodyplay.trackers.colorshirt.head import find_head
+from bodyplay.trackers.colorshirt.ik import PatchAnchors
+
+HEAD = np.array([320.0, 100.0])  # full-resolution centre of the head
+NECK = np.array([320.0, 136.0])
+RADIUS = 18.0  # full-resolution pixels
+
+
+def _person(head: np.ndarray = HEAD, with_head: bool = True, hand: np.ndarray | None = None
+            ) -> np.ndarray:
+    """Plate-resolution (half) foreground: head disk, throat and a shirt below it."""
+    fg = np.zeros((240, 320), bool)
+    yy, xx = np.mgrid[0:240, 0:320]
+    cx, cy, r = head[0] / 2, head[1] / 2, RADIUS / 2
+    if with_head:
+        fg |= (xx + 0.5 - cx) ** 2 + (yy + 0.5 - cy) ** 2 <= r * r
+    fg[int(cy + r - 2): 70, 156:164] = True  # throat
+    fg[66:160, 130:190] = True  # shirt and shoulders
+    if hand is not None:
+        hx, hy = hand / 2
+        fg |= (xx + 0.5 - hx) ** 2 + (yy + 0.5 - hy) ** 2 <= 16
+    return fg
+
+
+def test_find_head_returns_the_centre_of_the_head_disk() -> None:
+    hp = find_head(_person(), 2, HEAD, NECK, RADIUS)
+    assert hp is not None
+    assert np.hypot(hp.u - HEAD[0], hp.v - HEAD[1]) < 2.0
+    assert hp.fill > 0.9 and hp.radius == RADIUS
+
+
+def test_find_head_is_not_pulled_down_by_the_shirt_below_the_collar() -> None:
+    # the prediction sits on the collar: the shirt fills a disk there, but it is
+    # below the cut, so the head above is found
+    hp = find_head(_person(), 2, HEAD + (0.0, 14.0), NECK + (0.0, 14.0), RADIUS)
+    assert hp is not None
+    assert np.hypot(hp.u - HEAD[0], hp.v - HEAD[1]) < 3.0
+
+
+def test_find_head_corrects_a_prediction_off_by_more_than_a_radius() -> None:
+    hp = find_head(_person(), 2, HEAD + (25.0, 0.0), NECK + (25.0, 0.0), RADIUS)
+    assert hp is not None
+    assert np.hypot(hp.u - HEAD[0], hp.v - HEAD[1]) < 3.0
+
+
+def test_find_head_is_barely_moved_by_a_hand_beside_the_face() -> None:
+    hp = find_head(_person(hand=HEAD + (22.0, 6.0)), 2, HEAD, NECK, RADIUS)
+    assert hp is not None
+    assert np.hypot(hp.u - HEAD[0], hp.v - HEAD[1]) < 4.0
+
+
+def test_find_head_reports_nothing_without_a_head_in_view() -> None:
+    assert find_head(_person(with_head=False), 2, HEAD, NECK, RADIUS) is None
+    assert find_head(np.zeros((240, 320), bool), 2, HEAD, NECK, RADIUS) is None
+
+
+def test_find_head_rejects_unusable_predictions() -> None:
+    fg = _person()
+    assert find_head(fg, 2, np.array([np.nan, 100.0]), NECK, RADIUS) is None
+    assert find_head(fg, 2, HEAD, HEAD, RADIUS) is None  # no neck-to-head direction
+    assert find_head(fg, 2, HEAD, NECK, 2.0) is None  # a head of one plate pixel
+
+
+def test_head_anchors_join_the_shirt_anchors_after_them() -> None:
+    def anchors(n: int, patch: int) -> PatchAnchors:
+        return PatchAnchors(np.zeros(n, np.int64), np.zeros((n, 3)), np.zeros(n, np.int64),
+                            np.zeros((n, 2)), np.ones(n), np.full(n, patch, np.int64))
+
+    joined = join_anchors(anchors(3, 5), anchors(2, HEAD_PATCH))
+    assert len(joined) == 5 and list(joined.patch) == [5, 5, 5, HEAD_PATCH, HEAD_PATCH]
+    assert join_anchors(anchors(3, 5), anchors(0, HEAD_PATCH)).patch.tolist() == [5, 5, 5]
+    assert HEAD_PATCH == 21  # after the shirt's twenty patches
+
+
+@pytest.mark.parametrize("field,value", [("head_std", 0.0), ("head_std", np.nan),
+                                         ("head_offset", 0.5)])
+def test_options_reject_impossible_head_cue_settings(field: str, value: float) -> None:
+    with pytest.raises(ConfigError, match=field):
+        ColorShirtOptions(**{field: value})  # type: ignore[arg-type]
