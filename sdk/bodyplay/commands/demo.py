@@ -29,6 +29,9 @@ def register(subparsers: Any) -> None:
     p.add_argument("--clip", default="13_29", help="BVH file or built-in clip (default 13_29)")
     p.add_argument("--start", type=float, default=8.0, help="start time in the clip, seconds")
     p.add_argument("--seconds", type=float, default=8.0, help="seconds to capture")
+    p.add_argument("--lead-in", type=float, default=1.0,
+                   help="seconds of the empty room before the player steps in (the tracker "
+                        "learns its background plate there: floor and head cues; 0 = none)")
     p.add_argument("--cameras", type=int, default=2, choices=(1, 2))
     p.add_argument("--lighting", default="steady", help="synthetic lighting preset")
     p.add_argument("--seed", type=int, default=1)
@@ -59,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
         "synthetic capture of a real clip",
         ["synth", "--clip", args.clip, "--out", str(capture), "--cameras", str(args.cameras),
          "--start", str(args.start), "--seconds", str(args.seconds),
-         "--lighting", args.lighting, "--seed", str(args.seed)],
+         "--lighting", args.lighting, "--seed", str(args.seed), "--lead-in", str(args.lead_in)],
     )
     _step(
         "color-shirt tracking",

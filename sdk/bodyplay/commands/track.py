@@ -152,9 +152,11 @@ def run(args: argparse.Namespace) -> int:
         how = "chosen on the first frames" if requested == "auto" else "as requested"
         print(f"body preset: {body} ({how})")
     if getattr(getattr(tracker, "options", None), "floor_cue", False) and found:
+        hint = ("" if floor else " (it serves frames that one camera alone sees)" if heads
+                else " (it needs a background plate: start the capture with a second of the "
+                     "empty room)")
         print(f"floor cue: feet seen on the floor in {floor} of the {found} frame sets with a "
-              "pose" + ("" if floor else " (it needs a background plate: start the capture "
-                                         "with a second of the empty room)"))
+              f"pose{hint}")
     if getattr(getattr(tracker, "options", None), "head_cue", False) and found:
         print(f"head cue: head seen above the collar in {heads} of the {found} frame sets with "
               "a pose" + ("" if heads else " (it needs a background plate: start the capture "
