@@ -101,6 +101,7 @@ def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[st
     skip = 1 + (opts.body_selection_frames + opts.arm_selection_frames + 1
                 if opts.body == "auto" else 0)
     return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
+            "per_joint_cm": (100 * e.mean(axis=0)).tolist() if len(e) else [],
             "found": found / max(n, 1), "ms_per_camera_frame": float(np.median(ms[1:])),
             "ms_after_startup": float(np.median(ms[skip:])),
             "ms_startup": float(np.median(ms[1:skip])) if skip > 1 else float("nan"),
@@ -153,6 +154,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-ablation", action="store_true")
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--json", help="also write the figures to this JSON file")
+    ap.add_argument("--per-joint", action="store_true",
+                    help="also print each upper-body joint's error (mean over the clips)")
     ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE",
                     help="override a ColorShirtOptions field, e.g. --set ik_rounds=2")
     args = ap.parse_args(argv)
@@ -176,6 +179,8 @@ def main(argv: list[str] | None = None) -> int:
     results: dict[str, object] = {"date": str(datetime.date.today()), "db_size": len(db),
                                   "lead_in": args.lead_in}
     import ast
+
+    from bodyplay.body.joints import UPPER_BODY
 
     extra = {k: ast.literal_eval(v) for k, v in (item.split("=", 1) for item in args.set)}
     configs = [("full", ColorShirtOptions(database_size=args.db_size, body=args.body, **extra))]
@@ -204,6 +209,11 @@ def main(argv: list[str] | None = None) -> int:
                       f"found {100 * fd:5.1f}%  {ms:5.1f} ms/camera-frame  "
                       f"(after start-up {ms2:.1f}, max {mx:.1f}; start-up {su:.0f})  "
                       f"(per clip: {each}; body {bodies})", flush=True)
+                joints = [p["per_joint_cm"] for p in per if p["per_joint_cm"]]
+                if args.per_joint and joints:
+                    pj = np.mean(joints, axis=0)
+                    print("    per joint (cm): " + ", ".join(
+                        f"{n} {v:.1f}" for n, v in zip(UPPER_BODY, pj, strict=True)), flush=True)
     results["rows"] = [dict(zip(("lighting", "config", "cameras", "mpjpe_cm", "found",
                                  "ms_per_camera_frame"), r, strict=True)) for r in rows]
     if not args.no_real and (DATA / "video").exists():
