@@ -94,6 +94,20 @@ def test_track_rejects_a_folder_without_calibration(tmp_path: Path, capsys) -> N
     assert "error" in capsys.readouterr().err
 
 
+def _track_with_and_without_cue(args: list[str], tmp_path: Path, capsys,  # type: ignore[no-untyped-def]
+                                cue: str) -> tuple[int, int]:
+    """Track to ``{cue}.jsonl`` with the cue and ``plain.jsonl`` without; the frames
+    that used it and the frames with a pose, from the summary line of the first run."""
+    assert main([*args, "--out", str(tmp_path / f"{cue}.jsonl")]) == 0
+    printed = capsys.readouterr().out
+    used = [line for line in printed.splitlines() if line.startswith(f"{cue} cue:")]
+    assert used, printed
+    n_used, n_posed = (int(w) for w in used[0].split() if w.isdigit())
+    assert main([*args, "--out", str(tmp_path / "plain.jsonl"), "--set", f"{cue}_cue=false"]) == 0
+    assert f"{cue} cue:" not in capsys.readouterr().out
+    return n_used, n_posed
+
+
 @pytest.fixture(scope="module")
 def lead_in_capture(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """One second of motion after half a second of the empty room, two cameras."""
@@ -107,14 +121,8 @@ def test_one_camera_uses_the_feet_on_the_floor_after_an_empty_room_lead_in(
     cap = lead_in_capture
     args = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c"),
             "--cameras", "1", "--body", "m_slim", "--set", "arm_selection_frames=0"]
-    assert main([*args, "--out", str(tmp_path / "floor.jsonl")]) == 0
-    printed = capsys.readouterr().out
-    used = [line for line in printed.splitlines() if line.startswith("floor cue:")]
-    assert used, printed
-    n_used, n_posed = (int(w) for w in used[0].split() if w.isdigit())
+    n_used, n_posed = _track_with_and_without_cue(args, tmp_path, capsys, "floor")
     assert n_posed >= 25 and n_used >= 0.9 * n_posed
-    assert main([*args, "--out", str(tmp_path / "plain.jsonl"), "--set", "floor_cue=false"]) == 0
-    assert "floor cue:" not in capsys.readouterr().out
     # the root's depth from the feet is better than from the shirt's size alone
     truth = read_pose_jsonl(cap / "truth.jsonl")
     cam = read_calib(cap)[0]
@@ -135,14 +143,8 @@ def test_head_cue_finds_the_head_above_the_collar_and_brings_the_head_joint_clos
     cap = lead_in_capture
     args = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c"),
             "--body", "m_slim", "--set", "arm_selection_frames=0"]
-    assert main([*args, "--out", str(tmp_path / "head.jsonl")]) == 0
-    printed = capsys.readouterr().out
-    used = [line for line in printed.splitlines() if line.startswith("head cue:")]
-    assert used, printed
-    n_used, n_posed = (int(w) for w in used[0].split() if w.isdigit())
+    n_used, n_posed = _track_with_and_without_cue(args, tmp_path, capsys, "head")
     assert n_posed >= 25 and n_used >= 0.9 * n_posed
-    assert main([*args, "--out", str(tmp_path / "plain.jsonl"), "--set", "head_cue=false"]) == 0
-    assert "head cue:" not in capsys.readouterr().out
     truth = read_pose_jsonl(cap / "truth.jsonl")
     errs = []
     for name in ("head", "plain"):

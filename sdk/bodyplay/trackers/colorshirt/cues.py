@@ -33,6 +33,8 @@ HEAD_PATCH = NUM_PATCHES + 1
 """The ``patch`` id of a head anchor (the shirt's patches are 1..20)."""
 
 _HEAD_NODE = NODE_NAMES.index("head")
+_NO_ANCHORS = PatchAnchors(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0, np.int64),
+                           np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64))
 _HEAD_TOP = NODE_NAMES.index("head_top")
 
 
@@ -69,6 +71,8 @@ def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[C
     the ears); its standard deviation is ``options.head_std`` metres at the head's
     depth.
     """
+    if not options.head_cue:
+        return _NO_ANCHORS, []
     J = skeleton.joint_positions(q)
     head_w, neck_w = J[JOINT_INDEX["head"]], J[JOINT_INDEX["neck"]]
     radius_m = HEAD_RADIUS * float(np.linalg.norm(skeleton.offsets[_HEAD_TOP])) / 0.13
@@ -76,8 +80,6 @@ def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[C
     cams: list[int] = []
     sig: list[float] = []
     for v in views:
-        if not options.head_cue:
-            break
         fg = states[v.index].floor.foreground()
         if fg is None:
             continue

@@ -79,12 +79,12 @@ def find_head(
     roi = fg[y0:y1, x0:x1]
     yy, xx = np.mgrid[y0:y1, x0:x1]
     along = (xx - nx) * axis[0] + (yy - ny) * axis[1]
-    cand = (roi & (along > cut * length)).astype(np.float32)
+    cand = roi & (along > cut * length)
     k = int(np.ceil(r))
     ky, kx = np.mgrid[-k: k + 1, -k: k + 1]
     disk = ((kx * kx + ky * ky) <= r * r).astype(np.float32)
     area = float(disk.sum())
-    score = cv2.filter2D(cand, -1, disk, borderType=cv2.BORDER_CONSTANT) / area
+    score = cv2.filter2D(cand.astype(np.float32), -1, disk, borderType=cv2.BORDER_CONSTANT) / area
     near = (xx - hx) ** 2 + (yy - hy) ** 2 <= (reach * r) ** 2
     score = np.where(near, score, -1.0)
     iy, ix = np.unravel_index(int(np.argmax(score)), score.shape)
@@ -93,7 +93,7 @@ def find_head(
         return None
     cx, cy = float(ix + x0), float(iy + y0)
     for _ in range(2):
-        inside = cand.astype(bool) & ((xx - cx) ** 2 + (yy - cy) ** 2 <= r * r)
+        inside = cand & ((xx - cx) ** 2 + (yy - cy) ** 2 <= r * r)
         if not inside.any():
             return None
         cx, cy = float(xx[inside].mean()), float(yy[inside].mean())
