@@ -66,6 +66,12 @@ class ColorShirtOptions:
       plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
       centre lies above the joint, ``head_std`` (m) the constraint's standard
       deviation.
+    * ``arm_search``: with two or more cameras seeing the shirt, each arm of the
+      placed blend is replaced by the arm configuration (of ``arm_library``, spread
+      over the database's arms) whose shirt points best match the classified pixels
+      in every camera, by a truncated chamfer distance (``arm_tau`` shirt sizes);
+      the best few are blended with weights ``exp(-cost / arm_temperature)``
+      (beyond the paper; see :mod:`.armsearch`).
     """
 
     adaptive_white_balance: bool = True
@@ -102,6 +108,10 @@ class ColorShirtOptions:
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
+    arm_search: bool = True
+    arm_library: int = 1000
+    arm_tau: float = 0.15
+    arm_temperature: float = 0.02
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -149,6 +159,14 @@ class ColorShirtOptions:
             raise ConfigError("head_offset must be within -0.2..0.2 m (default 0.02)")
         if not (np.isfinite(self.head_std) and 0.002 <= self.head_std <= 1.0):
             raise ConfigError("head_std must be within 0.002..1 m (default 0.02)")
+        if not 1 <= self.arm_library <= 100_000:
+            raise ConfigError("arm_library must be between 1 and 100,000 arm configurations "
+                              "(default 1000)")
+        if not (np.isfinite(self.arm_temperature) and 0 <= self.arm_temperature <= 1):
+            raise ConfigError("arm_temperature must be within 0 (take the best arm) and 1 "
+                              "(default 0.02)")
+        if not (np.isfinite(self.arm_tau) and 0.01 <= self.arm_tau <= 2.0):
+            raise ConfigError("arm_tau must be within 0.01..2 shirt sizes (default 0.15)")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):

@@ -33,6 +33,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError, TimestampError
 from bodyplay.trackers.base import JointState, TrackerCapabilities, TrackResult, lost_result
+from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
     BodyModel,
     BodySelection,
@@ -144,6 +145,7 @@ class ColorShirtTracker:
         self._use(self._fixed)
         self.placement = DatabasePlacement(database, cameras)
         self._undistort = [self._undistort_maps(c) for c in cameras]
+        self._arms = ArmSearches(database.poses, options.arm_library)
         self.reset()
 
     # ---- state ---------------------------------------------------------------------
@@ -522,6 +524,10 @@ class ColorShirtTracker:
         observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
         anchors = self._anchors(q_b, views, rendered, observed)
         q_b = self.solver.solve_global(q_b, anchors, root_priors=self._root_priors)
+        if o.arm_search and len(views) > 1:
+            q_b, self.diagnostics["arms"] = self._arms.search(
+                self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
+                o.arm_tau, o.arm_temperature)
         self.diagnostics["q_blend"] = q_b
         verts = self.renderer.vertices(q_b)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
