@@ -156,3 +156,24 @@ def test_head_cue_finds_the_head_above_the_collar_and_brings_the_head_joint_clos
     states = [json.loads(line)["state"]["head"] for line in
               (tmp_path / "head.jsonl").read_text().splitlines()]
     assert states.count("tracked") >= 0.9 * n_posed
+
+
+@pytest.mark.gl
+def test_arm_search_runs_with_two_cameras_and_keeps_the_arms_close_to_the_truth(
+    tmp_path: Path, capsys, lead_in_capture: Path  # type: ignore[no-untyped-def]
+) -> None:
+    cap = lead_in_capture
+    base = ["track", "--input", str(cap), "--db-size", "4000", "--cache", str(tmp_path / "c"),
+            "--body", "m_slim", "--set", "arm_selection_frames=0"]
+    assert main([*base, "--out", str(tmp_path / "arms.jsonl")]) == 0
+    line = [s for s in capsys.readouterr().out.splitlines() if s.startswith("arm search:")]
+    n_used, n_posed = (int(w) for w in line[0].split() if w.isdigit())
+    assert n_posed >= 25 and n_used == n_posed
+    assert main([*base, "--out", str(tmp_path / "one.jsonl"), "--cameras", "1"]) == 0
+    assert "arm search: arms chosen from the arm library in 0 of" in capsys.readouterr().out
+    truth = read_pose_jsonl(cap / "truth.jsonl")
+    est = read_pose_jsonl(tmp_path / "arms.jsonl")
+    arms = [6, 7, 9, 10]  # elbows and wrists
+    ok = est.reported[:, 0] & truth.reported[est.frames, 0]
+    err = np.linalg.norm(est.joints[ok][:, arms] - truth.joints[est.frames[ok]][:, arms], axis=2)
+    assert float(err.mean()) < 0.08, err.mean(axis=0)

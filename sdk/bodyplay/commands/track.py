@@ -138,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     ms: list[float] = []
     writer_box: list[Any] = [None]
     try:
-        n, found, floor, heads = _track_all(args, src, cams, tracker, ms, writer_box)
+        n, found, used = _track_all(args, src, cams, tracker, ms, writer_box)
     finally:
         # the overlay is playable up to the last frame even if tracking failed
         if writer_box[0] is not None:
@@ -151,30 +151,36 @@ def run(args: argparse.Namespace) -> int:
         requested = getattr(getattr(tracker, "options", None), "body", args.body)
         how = "chosen on the first frames" if requested == "auto" else "as requested"
         print(f"body preset: {body} ({how})")
-    if getattr(getattr(tracker, "options", None), "floor_cue", False) and found:
+    options = getattr(tracker, "options", None)
+    floor, heads, arms = used["floor_cue"], used["heads"], used["arms"]
+    if getattr(options, "floor_cue", False) and found:
         hint = ("" if floor else " (it serves frames that one camera alone sees)" if heads
                 else " (it needs a background plate: start the capture with a second of the "
                      "empty room)")
         print(f"floor cue: feet seen on the floor in {floor} of the {found} frame sets with a "
               f"pose{hint}")
-    if getattr(getattr(tracker, "options", None), "head_cue", False) and found:
+    if getattr(options, "head_cue", False) and found:
         print(f"head cue: head seen above the collar in {heads} of the {found} frame sets with "
               "a pose" + ("" if heads else " (it needs a background plate: start the capture "
                                           "with a second of the empty room)"))
+    if getattr(options, "arm_search", False) and found:
+        print(f"arm search: arms chosen from the arm library in {arms} of the {found} frame "
+              "sets with a pose" + ("" if arms else " (it needs two or more cameras seeing "
+                                                    "the shirt)"))
     return 0
 
 
 def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracker: Any,
-               ms: list[float], writer_box: list[Any]) -> tuple[int, int, int, int]:
+               ms: list[float], writer_box: list[Any]) -> tuple[int, int, dict[str, int]]:
     """The tracking loop of :func:`run`: poses to ``args.out`` (flushed per record),
     overlay frames to the writer it opens in ``writer_box``. Returns the frame sets
-    read, those with a pose and those of them that used the floor cue and the head
-    cue."""
+    read, those with a pose, and per step beyond the paper (the result's extras
+    ``floor_cue``, ``heads``, ``arms``) how many of those used it."""
     from bodyplay.capture.frames import FrameSet
     from bodyplay.capture.jsonl import PoseJsonlWriter
 
     n = found = 0
-    floor = heads = 0
+    used = dict.fromkeys(("floor_cue", "heads", "arms"), 0)
     with src, PoseJsonlWriter(args.out) as out:
         for fs in src:
             if args.frames is not None and n >= args.frames:
@@ -184,8 +190,8 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
             out.write(result.to_json())
             n += 1
             found += int(result.found)
-            floor += int(result.found and bool(result.extras.get("floor_cue")))
-            heads += int(result.found and bool(result.extras.get("heads")))
+            for key in used:
+                used[key] += int(result.found and bool(result.extras.get(key)))
             ms.append(result.ms)
             if args.overlay:
                 img = draw_overlay(fs.frames[0].image, result, cams[0])
@@ -195,4 +201,4 @@ def _track_all(args: argparse.Namespace, src: Any, cams: tuple[Any, ...], tracke
                         args.overlay, cv2.VideoWriter.fourcc(*"mp4v"), src.fps, (w, h)
                     )
                 writer_box[0].write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
-    return n, found, floor, heads
+    return n, found, used

@@ -62,6 +62,8 @@ _BLEND = 5
 """How many of each arm's best candidates are blended."""
 _COARSE = 2
 """Stage 1 scores every candidate on every ``_COARSE``-th surface point."""
+_Points = tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]
+"""Surface points of one arm: bone slot, position and normal in the bone's frame, color."""
 
 
 def _arm_patches(side: str) -> tuple[int, ...]:
@@ -179,17 +181,17 @@ class ArmSearch:
             self._rot[s] = poses[:, self._cols[s]]
             self._rel[s] = np.ascontiguousarray(self._relative(skeleton.forward(poses), s))
         self._points = {s: self._surface_points(mesh, s) for s in ARM_NODES}
-        self._coarse = {s: tuple(np.ascontiguousarray(a[::_COARSE]) for a in pts)
-                        for s, pts in self._points.items()}
+        self._coarse: dict[str, _Points] = {
+            s: (np.ascontiguousarray(n[::_COARSE]), np.ascontiguousarray(lo[::_COARSE]),
+                np.ascontiguousarray(nr[::_COARSE]), np.ascontiguousarray(c[::_COARSE]))
+            for s, (n, lo, nr, c) in self._points.items()}
         """Every second point: enough to shortlist the candidates in stage 1."""
 
     def _relative(self, T: NDArray[np.float64], side: str) -> NDArray[np.float64]:
         inv = np.linalg.inv(T[:, self._parent[side]])
         return np.einsum("nij,nkjl->nkil", inv, T[:, self._nodes[side]])
 
-    def _surface_points(self, mesh: SkinnedMesh, side: str
-                        ) -> tuple[NDArray[np.int64], NDArray[np.float64],
-                                   NDArray[np.float64], NDArray[np.int64]]:
+    def _surface_points(self, mesh: SkinnedMesh, side: str) -> _Points:
         """One point per face of the arm's patches, in its bone's rest frame."""
         sk = self.skeleton
         faces = np.concatenate([_spread(np.nonzero(mesh.face_part == p)[0], self._per_patch)

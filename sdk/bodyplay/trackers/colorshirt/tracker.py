@@ -524,6 +524,7 @@ class ColorShirtTracker:
         observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
         anchors = self._anchors(q_b, views, rendered, observed)
         q_b = self.solver.solve_global(q_b, anchors, root_priors=self._root_priors)
+        self.diagnostics["arms"] = []
         if o.arm_search and len(views) > 1:
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
@@ -593,4 +594,5 @@ class ColorShirtTracker:
                                    "feet": [(v.index, self._cams[v.index].floor.last_feet)
                                             for v in views],
                                    "floor_cue": bool(self._root_priors),
-                                   "heads": self.diagnostics.get("heads", [])})
+                                   "heads": self.diagnostics.get("heads", []),
+                                   "arms": self.diagnostics.get("arms", [])})
