@@ -79,23 +79,50 @@ def capture(work: Path, clip: str, lighting: str, seconds: float, lead_in: float
     return out
 
 
-def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[str, Any]:  # type: ignore[no-untyped-def]
-    """Track a capture; MPJPE (cm) over frames with a pose, found share, ms per camera frame."""
+def _track(folder: Path, ncam: int, opts: ColorShirtOptions, db  # type: ignore[no-untyped-def]
+           ) -> tuple[list[Any], list[float], Any]:
+    """One pass over a capture: the results of the frames with truth, their ms per camera
+    frame, and the tracker."""
     src = open_source(folder)
     assert src.cameras is not None
     tracker = create_colorshirt_tracker(opts, src.cameras[:ncam], database=db)
     truth = read_pose_jsonl(folder / "truth.jsonl")
-    errs, ms, found, n = [], [], 0, 0
+    results, ms = [], []
     with src:
         for fs in src:
             r = tracker.process(FrameSet(fs.frames[:ncam], fs.t, fs.index))
             if not np.isfinite(truth.joints[fs.index][0]).all():
                 continue  # the empty room of a lead-in: nothing to score or time
-            n += 1
+            results.append((fs.index, r))
             ms.append(r.ms / ncam)
-            if r.found:
-                found += 1
-                errs.append(np.linalg.norm(r.joints[:11] - truth.joints[fs.index][:11], axis=1))
+    return results, ms, tracker
+
+
+def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db,  # type: ignore[no-untyped-def]
+                repeats: int = 1) -> dict[str, Any]:
+    """Track a capture; MPJPE (cm) over frames with a pose, found share, ms per camera frame.
+
+    With ``repeats`` > 1 the capture is tracked that many times by fresh trackers
+    (which must give identical poses: a replay is exact) and each frame's fastest
+    time is kept as well: the VM this runs on slows down by up to 40% for seconds at
+    a time, and the per-frame minimum removes that (as ``timeit`` reports the best
+    of its repeats).
+    """
+    truth = read_pose_jsonl(folder / "truth.jsonl")
+    results, ms, tracker = _track(folder, ncam, opts, db)
+    errs, found = [], 0
+    for index, r in results:
+        if r.found:
+            found += 1
+            errs.append(np.linalg.norm(r.joints[:11] - truth.joints[index][:11], axis=1))
+    n = len(results)
+    best = np.array(ms)
+    exact = True
+    for _ in range(repeats - 1):
+        again, ms_again, _ = _track(folder, ncam, opts, db)
+        best = np.minimum(best, ms_again)
+        exact &= all(np.array_equal(a.joints, b.joints, equal_nan=True)
+                     for (_, a), (_, b) in zip(results, again, strict=True))
     e = np.array(errs)
     # with body="auto" the first frames fit every preset: time the rest separately
     skip = 1 + (opts.body_selection_frames + opts.arm_selection_frames + 1
@@ -104,6 +131,8 @@ def run_capture(folder: Path, ncam: int, opts: ColorShirtOptions, db) -> dict[st
             "per_joint_cm": (100 * e.mean(axis=0)).tolist() if len(e) else [],
             "found": found / max(n, 1), "ms_per_camera_frame": float(np.median(ms[1:])),
             "ms_after_startup": float(np.median(ms[skip:])),
+            "ms_best_after_startup": float(np.median(best[skip:])),
+            "replay_exact": exact,
             "ms_startup": float(np.median(ms[1:skip])) if skip > 1 else float("nan"),
             "ms_max_after_startup": float(np.max(ms[skip:])),
             "body": tracker.body_name, "frames": n}
@@ -151,6 +180,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--validation", action="store_true",
                     help="use the validation clips (tune settings here, report on the test "
                          "clips)")
+    ap.add_argument("--cameras", default="2,1",
+                    help="camera counts to run, e.g. 2 (default: 2,1)")
+    ap.add_argument("--timing-repeats", type=int, default=3,
+                    help="track the steady captures this many times and also report the "
+                         "median of each frame's fastest time (default 3; 1: one pass)")
     ap.add_argument("--no-ablation", action="store_true")
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--json", help="also write the figures to this JSON file")
@@ -193,9 +227,10 @@ def main(argv: list[str] | None = None) -> int:
         for name, opts in configs:
             if name != "full" and lighting not in ("steady", "switch"):
                 continue
-            for ncam in (2, 1):
+            for ncam in (int(c) for c in args.cameras.split(",")):
                 folders = [capture(work, c, lighting, args.seconds, args.lead_in) for c in clips]
-                per = [run_capture(f, ncam, opts, db) for f in folders]
+                reps = args.timing_repeats if (lighting, name) == ("steady", "full") else 1
+                per = [run_capture(f, ncam, opts, db, reps) for f in folders]
                 mp = float(np.mean([p["mpjpe_cm"] for p in per]))
                 fd = float(np.mean([p["found"] for p in per]))
                 ms = float(np.median([p["ms_per_camera_frame"] for p in per]))
@@ -205,9 +240,14 @@ def main(argv: list[str] | None = None) -> int:
                 mx = float(np.max([p["ms_max_after_startup"] for p in per]))
                 su = float(np.median([p["ms_startup"] for p in per]))
                 bodies = ", ".join(str(p["body"]) for p in per)
+                best = ""
+                if reps > 1:
+                    b = float(np.median([p["ms_best_after_startup"] for p in per]))
+                    same = "exact" if all(p["replay_exact"] for p in per) else "NOT EXACT"
+                    best = f", best of {reps} per frame {b:.1f}, replays {same}"
                 print(f"{lighting:12s} {name:15s} cams={ncam}  MPJPE {mp:5.2f} cm  "
                       f"found {100 * fd:5.1f}%  {ms:5.1f} ms/camera-frame  "
-                      f"(after start-up {ms2:.1f}, max {mx:.1f}; start-up {su:.0f})  "
+                      f"(after start-up {ms2:.1f}{best}, max {mx:.1f}; start-up {su:.0f})  "
                       f"(per clip: {each}; body {bodies})", flush=True)
                 joints = [p["per_joint_cm"] for p in per if p["per_joint_cm"]]
                 if args.per_joint and joints:

@@ -60,6 +60,8 @@ ARM_NODES: dict[str, tuple[str, ...]] = {
 _PARENT = "neck"
 _BLEND = 5
 """How many of each arm's best candidates are blended."""
+_EXTRA = 2
+"""Per-frame candidates ahead of the library: the blend's arm and the previous frame's."""
 _COARSE = 2
 """Stage 1 scores every candidate on every ``_COARSE``-th surface point."""
 _Points = tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]
@@ -91,49 +93,71 @@ def color_distance_maps(ids: NDArray[np.uint8], colors: tuple[int, ...] | None =
     return out
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
+def _camera_from(A: NDArray[np.float64], R: NDArray[np.float64], t: NDArray[np.float64]
+                 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """(3, 4) camera-from-parent transform ``[R | t] @ A``."""
+    C = np.empty((3, 4))
+    for r in range(3):
+        for k in range(4):
+            C[r, k] = R[r, 0] * A[0, k] + R[r, 1] * A[1, k] + R[r, 2] * A[2, k]
+        C[r, 3] += t[r]
+    return C
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
+def _chain(C: NDArray[np.float64], rel: NDArray[np.float64], c: int, M: NDArray[np.float64]
+           ) -> None:  # pragma: no cover - compiled
+    """Fill ``M`` (nodes, 3, 4) with candidate ``c``'s camera-from-node transforms."""
+    for j in range(rel.shape[1]):
+        for r in range(3):
+            for k in range(4):
+                M[j, r, k] = (C[r, 0] * rel[c, j, 0, k] + C[r, 1] * rel[c, j, 1, k]
+                              + C[r, 2] * rel[c, j, 2, k])
+            M[j, r, 3] += C[r, 3]
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
 def _chamfer(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np.int64],
              plocal: NDArray[np.float64], pnormal: NDArray[np.float64],
              pcolor: NDArray[np.int64], K: NDArray[np.float64], R: NDArray[np.float64],
-             t: NDArray[np.float64], center: NDArray[np.float64], x0: float, y0: float,
+             t: NDArray[np.float64], x0: float, y0: float,
              scale: float, dts: NDArray[np.float32], tau: float,
              cost: NDArray[np.float64], seen: NDArray[np.float64]
              ) -> None:  # pragma: no cover - compiled
-    """Add every candidate's truncated chamfer cost and visible-point count for one camera."""
-    n_cand = rel.shape[0]
-    n_pts = plocal.shape[0]
+    """Add every candidate's truncated chamfer cost and visible-point count for one camera.
+
+    Points and normals go straight to the camera's frame; a point faces the camera
+    when its normal points back towards the origin there.
+    """
     h = dts.shape[1]
     w = dts.shape[2]
+    C = _camera_from(A, R, t)
     M = np.empty((rel.shape[1], 3, 4))
-    for c in range(n_cand):
-        for j in range(rel.shape[1]):
-            for r in range(3):
-                for k in range(4):
-                    s = 0.0
-                    for m in range(4):
-                        s += A[r, m] * rel[c, j, m, k]
-                    M[j, r, k] = s
+    fx = K[0, 0] * scale
+    skew = K[0, 1] * scale
+    cx = (K[0, 2] - x0) * scale
+    fy = K[1, 1] * scale
+    cy = (K[1, 2] - y0) * scale
+    for c in range(rel.shape[0]):
+        _chain(C, rel, c, M)
         total = 0.0
         vis = 0.0
-        for i in range(n_pts):
+        for i in range(plocal.shape[0]):
             j = pnode[i]
             lx, ly, lz = plocal[i, 0], plocal[i, 1], plocal[i, 2]
-            px = M[j, 0, 0] * lx + M[j, 0, 1] * ly + M[j, 0, 2] * lz + M[j, 0, 3]
-            py = M[j, 1, 0] * lx + M[j, 1, 1] * ly + M[j, 1, 2] * lz + M[j, 1, 3]
-            pz = M[j, 2, 0] * lx + M[j, 2, 1] * ly + M[j, 2, 2] * lz + M[j, 2, 3]
+            xc = M[j, 0, 0] * lx + M[j, 0, 1] * ly + M[j, 0, 2] * lz + M[j, 0, 3]
+            yc = M[j, 1, 0] * lx + M[j, 1, 1] * ly + M[j, 1, 2] * lz + M[j, 1, 3]
+            zc = M[j, 2, 0] * lx + M[j, 2, 1] * ly + M[j, 2, 2] * lz + M[j, 2, 3]
             nx, ny, nz = pnormal[i, 0], pnormal[i, 1], pnormal[i, 2]
             wx = M[j, 0, 0] * nx + M[j, 0, 1] * ny + M[j, 0, 2] * nz
             wy = M[j, 1, 0] * nx + M[j, 1, 1] * ny + M[j, 1, 2] * nz
             wz = M[j, 2, 0] * nx + M[j, 2, 1] * ny + M[j, 2, 2] * nz
-            if wx * (center[0] - px) + wy * (center[1] - py) + wz * (center[2] - pz) <= 0.0:
+            if wx * xc + wy * yc + wz * zc >= 0.0 or zc <= 0.05:
                 continue
-            xc = R[0, 0] * px + R[0, 1] * py + R[0, 2] * pz + t[0]
-            yc = R[1, 0] * px + R[1, 1] * py + R[1, 2] * pz + t[1]
-            zc = R[2, 0] * px + R[2, 1] * py + R[2, 2] * pz + t[2]
-            if zc <= 0.05:
-                continue
-            u = (K[0, 0] * xc / zc + K[0, 1] * yc / zc + K[0, 2] - x0) * scale
-            v = (K[1, 1] * yc / zc + K[1, 2] - y0) * scale
+            iz = 1.0 / zc
+            u = (fx * xc + skew * yc) * iz + cx
+            v = fy * yc * iz + cy
             vis += 1.0
             ui = int(u + 0.5)
             vi = int(v + 0.5)
@@ -178,8 +202,12 @@ class ArmSearch:
         self._rel: dict[str, NDArray[np.float64]] = {}
         for s in ARM_NODES:
             poses = np.asarray(library[s], np.float64)
-            self._rot[s] = poses[:, self._cols[s]]
-            self._rel[s] = np.ascontiguousarray(self._relative(skeleton.forward(poses), s))
+            rot = poses[:, self._cols[s]]
+            rel = self._relative(skeleton.forward(poses), s)
+            # two leading slots for the per-frame candidates (blend, previous frame)
+            self._rot[s] = np.concatenate([np.zeros((_EXTRA,) + rot.shape[1:]), rot])
+            self._rel[s] = np.ascontiguousarray(
+                np.concatenate([np.zeros((_EXTRA,) + rel.shape[1:]), rel]))
         self._points = {s: self._surface_points(mesh, s) for s in ARM_NODES}
         self._coarse: dict[str, _Points] = {
             s: (np.ascontiguousarray(n[::_COARSE]), np.ascontiguousarray(lo[::_COARSE]),
@@ -230,27 +258,29 @@ class ArmSearch:
             return q.copy(), []
         T = self.skeleton.forward(q)
         A = {s: np.ascontiguousarray(T[self._parent[s]]) for s in ARM_NODES}
-        extra = [T]
+        extra = [(T, q)]
         if previous is not None:
-            extra.append(self.skeleton.forward(previous))
+            extra.append((self.skeleton.forward(previous), previous))
         n_extra = len(extra)
+        first = _EXTRA - n_extra
         mean_tau = float(np.mean([v.tau for v in views])) if views else 1.0
         stage1: dict[str, NDArray[np.float64]] = {}
         short: dict[str, NDArray[np.intp]] = {}
         rels: dict[str, NDArray[np.float64]] = {}
         rots: dict[str, NDArray[np.float64]] = {}
         for s in ARM_NODES:
-            rel = np.concatenate([self._relative(e[None], s) for e in extra] + [self._rel[s]])
-            rot = np.concatenate([q[None, self._cols[s]]]
-                                 + ([previous[None, self._cols[s]]] if previous is not None
-                                    else []) + [self._rot[s]])
+            for k, (Te, qe) in enumerate(extra):
+                self._rel[s][first + k] = self._relative(Te[None], s)[0]
+                self._rot[s][first + k] = qe[self._cols[s]]
+            rel = self._rel[s][first:]
+            rot = self._rot[s][first:]
             cost = np.zeros(len(rel))
             seen = np.zeros(len(rel))
             node, local, normal, color = self._coarse[s]
             for v in views:
                 cam = cameras[v.camera]
                 _chamfer(A[s], rel, node, local, normal, color, cam.K, cam.R, cam.t,
-                         np.asarray(cam.center, np.float64), float(v.window.x0),
+                         float(v.window.x0),
                          float(v.window.y0), float(v.window.scale), v.distances,
                          float(v.tau), cost, seen)
             score = cost / (np.maximum(seen, 1.0) * mean_tau)
@@ -301,7 +331,7 @@ class ArmSearch:
             for s in ARM_NODES:
                 node, local, normal, color = self._points[s]
                 uv, vis = _project(A[s], rels[s], node, local, normal, cam.K, cam.R, cam.t,
-                                   np.asarray(cam.center, np.float64), float(v.window.x0),
+                                   float(v.window.x0),
                                    float(v.window.y0), float(v.window.scale))
                 near[s] = _nearest_same_color(uv, vis, color, obs, float(v.tau))
             d = np.minimum(near["l"][:, None, :], near["r"][None, :, :])
@@ -380,41 +410,32 @@ ARM_COLORS = tuple(sorted({p.color for p in PATCHES if p.bone in ARM_NODES["l"] 
 """Colors of the arms' patches (shoulder caps included)."""
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
 def _project(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np.int64],
              plocal: NDArray[np.float64], pnormal: NDArray[np.float64],
              K: NDArray[np.float64], R: NDArray[np.float64], t: NDArray[np.float64],
-             center: NDArray[np.float64], x0: float, y0: float, scale: float
+             x0: float, y0: float, scale: float
              ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:  # pragma: no cover
     """Crop coordinates (C, P, 2) of every candidate's points and whether each faces the camera."""
-    n_cand = rel.shape[0]
-    n_pts = plocal.shape[0]
-    uv = np.zeros((n_cand, n_pts, 2))
-    vis = np.zeros((n_cand, n_pts), np.bool_)
-    for c in range(n_cand):
-        for i in range(n_pts):
+    uv = np.zeros((rel.shape[0], plocal.shape[0], 2))
+    vis = np.zeros((rel.shape[0], plocal.shape[0]), np.bool_)
+    C = _camera_from(A, R, t)
+    M = np.empty((rel.shape[1], 3, 4))
+    for c in range(rel.shape[0]):
+        _chain(C, rel, c, M)
+        for i in range(plocal.shape[0]):
             j = pnode[i]
-            p = np.zeros(3)
-            nrm = np.zeros(3)
-            for r in range(3):
-                p[r] = 0.0
-                nrm[r] = 0.0
-                for k in range(3):
-                    m = (A[r, 0] * rel[c, j, 0, k] + A[r, 1] * rel[c, j, 1, k]
-                         + A[r, 2] * rel[c, j, 2, k])
-                    p[r] += m * plocal[i, k]
-                    nrm[r] += m * pnormal[i, k]
-                p[r] += (A[r, 0] * rel[c, j, 0, 3] + A[r, 1] * rel[c, j, 1, 3]
-                         + A[r, 2] * rel[c, j, 2, 3] + A[r, 3])
-            if (nrm[0] * (center[0] - p[0]) + nrm[1] * (center[1] - p[1])
-                    + nrm[2] * (center[2] - p[2])) <= 0.0:
+            lx, ly, lz = plocal[i, 0], plocal[i, 1], plocal[i, 2]
+            xc = M[j, 0, 0] * lx + M[j, 0, 1] * ly + M[j, 0, 2] * lz + M[j, 0, 3]
+            yc = M[j, 1, 0] * lx + M[j, 1, 1] * ly + M[j, 1, 2] * lz + M[j, 1, 3]
+            zc = M[j, 2, 0] * lx + M[j, 2, 1] * ly + M[j, 2, 2] * lz + M[j, 2, 3]
+            nx, ny, nz = pnormal[i, 0], pnormal[i, 1], pnormal[i, 2]
+            wx = M[j, 0, 0] * nx + M[j, 0, 1] * ny + M[j, 0, 2] * nz
+            wy = M[j, 1, 0] * nx + M[j, 1, 1] * ny + M[j, 1, 2] * nz
+            wz = M[j, 2, 0] * nx + M[j, 2, 1] * ny + M[j, 2, 2] * nz
+            if wx * xc + wy * yc + wz * zc >= 0.0 or zc <= 0.05:
                 continue
-            xc = R[0, 0] * p[0] + R[0, 1] * p[1] + R[0, 2] * p[2] + t[0]
-            yc = R[1, 0] * p[0] + R[1, 1] * p[1] + R[1, 2] * p[2] + t[1]
-            zc = R[2, 0] * p[0] + R[2, 1] * p[1] + R[2, 2] * p[2] + t[2]
-            if zc <= 0.05:
-                continue
-            uv[c, i, 0] = (K[0, 0] * xc / zc + K[0, 1] * yc / zc + K[0, 2] - x0) * scale
+            uv[c, i, 0] = ((K[0, 0] * xc + K[0, 1] * yc) / zc + K[0, 2] - x0) * scale
             uv[c, i, 1] = (K[1, 1] * yc / zc + K[1, 2] - y0) * scale
             vis[c, i] = True
     return uv, vis
