@@ -28,9 +28,11 @@ def main() -> int:
     ap.add_argument("--out", default=str(ASSET / "ik_prior.json"))
     ap.add_argument("--raw", help="also write the fully trained prior here")
     ap.add_argument("--seconds", type=float, default=5.0)
+    ap.add_argument("--clips", default="13_29,131_02,131_03",
+                    help="comma-separated clip names or .bvh paths to train on")
     args = ap.parse_args()
     t0 = time.perf_counter()
-    pm = train_prior_model(clips=("13_29", "131_02", "131_03"), seconds=args.seconds)
+    pm = train_prior_model(clips=tuple(args.clips.split(",")), seconds=args.seconds)
     raw = pm.to_dict()
     print(json.dumps(raw))
     if args.raw:

@@ -14,6 +14,7 @@ from bodyplay.motion import sample_poses
 from bodyplay.render.idmap import crop_transform, project_vertices
 from bodyplay.trackers.colorshirt.database import (
     DatabaseOptions,
+    _matvec,
     _project_crops,
     build_database,
     canonical_camera,
@@ -71,6 +72,15 @@ def test_query_finds_an_entry_itself_and_agrees_with_exhaustive_search(small_db)
     assert recall / len(queries) > 0.9
     d = small_db.query(queries[0])
     assert np.allclose(d.distance, mismatch(small_db.ids[d.index], queries[0]) / 1600)
+
+
+def test_query_projection_matches_numpy_matrix_product(small_db) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(4)
+    A = rng.normal(size=(300, 17)).astype(np.float32)
+    x = rng.normal(size=17).astype(np.float32)
+    assert np.allclose(_matvec(A, x), A @ x, atol=1e-4)
+    f = small_db.query_features(small_db.ids[3])
+    assert np.allclose(f, small_db.features[3], atol=1e-3)
 
 
 def test_blend_of_one_pose_repeated_is_that_pose(small_db) -> None:  # type: ignore[no-untyped-def]
