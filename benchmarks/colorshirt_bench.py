@@ -12,6 +12,10 @@ wears the shirt there): the share of frames reported lost.
     .venv/bin/python benchmarks/colorshirt_bench.py --quick    # steady, 2 clips
     .venv/bin/python benchmarks/colorshirt_bench.py --validation --set prior_strength=9
 
+The steady rows are tracked ``--timing-repeats`` times (default 3): besides the
+one-pass median, the median of each frame's fastest time is reported, since this
+VM's speed drifts by up to 40% for seconds at a time.
+
 Settings are chosen on ``--validation`` (four other Bandai clips) and reported on
 the test clips, so that the reported figures are not tuned to them.
 """
