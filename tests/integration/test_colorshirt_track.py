@@ -177,3 +177,30 @@ def test_arm_search_runs_with_two_cameras_and_keeps_the_arms_close_to_the_truth(
     ok = est.reported[:, 0] & truth.reported[est.frames, 0]
     err = np.linalg.norm(est.joints[ok][:, arms] - truth.joints[est.frames[ok]][:, arms], axis=2)
     assert float(err.mean()) < 0.08, err.mean(axis=0)
+
+
+@pytest.mark.gl
+def test_plate_mask_leaves_the_room_beside_the_shirt_unclassified_after_a_lead_in(
+    tmp_path: Path, lead_in_capture: Path
+) -> None:
+    from bodyplay.capture.sources import open_source
+    from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
+
+    share = {}
+    for plate_mask in (True, False):
+        opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
+                                 body="m_slim", arm_selection_frames=0, plate_mask=plate_mask)
+        src = open_source(lead_in_capture)
+        assert src.cameras is not None
+        tracker = create_colorshirt_tracker(opts, src.cameras)
+        masked = []
+        with src:
+            for fs in src:
+                if tracker.process(fs).found:
+                    masked += [float(v.mask.mean()) for v, _, _ in
+                               tracker.diagnostics["observed"] if v.mask is not None]
+        assert len(masked) >= 40
+        share[plate_mask] = float(np.median(masked))
+    # MOG2 keeps the player's last box as foreground: most of the crop (0.77 here);
+    # the plate keeps only the player, so the room around the shirt is out (0.33)
+    assert share[False] > 0.6 and share[True] < 0.5 * share[False], share

@@ -118,3 +118,35 @@ def test_floor_watch_learns_the_room_until_the_shirt_appears_then_finds_feet() -
     watch.start(player)
     watch.shirt_at(SHIRT)
     assert len(watch.feet()) == 2
+
+
+def test_crop_foreground_masks_the_room_next_to_the_shirt_at_the_crop_size() -> None:
+    from bodyplay.trackers.colorshirt.floor import FloorWatch
+
+    room = _room()
+    watch = FloorWatch()
+    watch.start(room)
+    assert watch.crop_foreground((240, 80, 400, 280), (64, 80)) is None  # no plate yet
+    for _ in range(10):
+        watch.start(room)
+        watch.no_shirt()
+    watch.start(_person(room))
+    watch.shirt_at(SHIRT)
+    mask = watch.crop_foreground((240, 80, 400, 280), (64, 80))  # 160 x 200 px -> 64 x 80
+    assert mask is not None and mask.shape == (80, 64) and mask.dtype == bool
+    # the crop's x 240..400 maps to 0..64: the shirt (280..360) is 16..48, rows 120..240 -> 16..64
+    assert mask[24:60, 20:44].all()
+    assert not mask[:10].any() and not mask[:, :12].any() and not mask[:, 52:].any()
+
+
+def test_crop_foreground_is_none_for_a_box_outside_the_image() -> None:
+    from bodyplay.trackers.colorshirt.floor import FloorWatch
+
+    room = _room()
+    watch = FloorWatch()
+    for _ in range(10):
+        watch.start(room)
+        watch.no_shirt()
+    watch.start(_person(room))
+    watch.shirt_at(SHIRT)
+    assert watch.crop_foreground((700, 500, 800, 600), (32, 32)) is None

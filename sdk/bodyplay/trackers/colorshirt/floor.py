@@ -259,6 +259,28 @@ class FloorWatch:
                 self._fg = self.plate.foreground(self._small, self._region_small())
         return self._fg
 
+    def crop_foreground(self, box: Box, size: tuple[int, int]) -> NDArray[np.bool_] | None:
+        """The plate's foreground inside ``box`` (full-resolution px), resized to ``size``
+        (width, height) of the working crop; None before the plate is ready.
+
+        Unlike MOG2's mask, the plate never learns the player: a player who stands
+        still stays foreground, so the mask can be trusted right next to the shirt.
+        """
+        if self._small is None or not self.plate.ready:
+            return None
+        d = self.plate.downscale
+        h, w = self._small.shape[:2]
+        x0, y0, x1, y1 = (max(box[0] // d, 0), max(box[1] // d, 0),
+                          min(-(-box[2] // d), w), min(-(-box[3] // d), h))
+        if x1 - x0 < 2 or y1 - y0 < 2:
+            return None
+        fg = self.plate.foreground(self._small, (x0, y0, x1, y1))
+        if fg is None:
+            return None
+        # one plate pixel back around the outline, which the plate's opening trims
+        sub = cv2.dilate(fg[y0:y1, x0:x1].astype(np.uint8), np.ones((3, 3), np.uint8))
+        return np.asarray(cv2.resize(sub, size, interpolation=cv2.INTER_NEAREST), bool)
+
     def feet(self) -> tuple[FeetPoint, ...]:
         """This frame's feet (see :func:`feet_points`); empty without a plate or shirt."""
         if self._feet is None:

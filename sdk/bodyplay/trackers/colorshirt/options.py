@@ -72,6 +72,12 @@ class ColorShirtOptions:
       in every camera, by a truncated chamfer distance (``arm_tau`` shirt sizes);
       the best few are blended with weights ``exp(-cost / arm_temperature)``
       (beyond the paper; see :mod:`.armsearch`).
+    * ``plate_mask``: once the background plate is learned (``floor_cue`` or
+      ``head_cue``, from empty-room frames before the shirt appears), only pixels
+      that differ from it are classified. MOG2's mask counts the player's last box
+      as foreground (so a player who stands still does not fade), which leaves
+      the background right next to the shirt unmasked; under dim light the
+      classifier took dark floor there for the dark sleeve colors.
     """
 
     adaptive_white_balance: bool = True
@@ -112,6 +118,7 @@ class ColorShirtOptions:
     arm_library: int = 1000
     arm_tau: float = 0.15
     arm_temperature: float = 0.02
+    plate_mask: bool = True
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:

@@ -246,6 +246,9 @@ class ColorShirtTracker:
         if mask is not None:
             cmask = cv2.resize(mask[y0:y1, x0:x1].astype(np.uint8), (cw, chh),
                                interpolation=cv2.INTER_NEAREST) > 0
+        if plate and o.plate_mask:  # MOG2 has the player's last box as foreground
+            pm = st.floor.crop_foreground((x0, y0, x1, y1), (cw, chh))
+            cmask = cmask if pm is None else pm if cmask is None else cmask & pm
         window = CropWindow(float(x0), float(y0), float(cw) / (x1 - x0), cw, chh)
         # the paper's "supposedly foreground": masked pixels inside the located window
         fg = np.zeros((chh, cw), bool)
