@@ -9,6 +9,7 @@ from bodyplay.capture.camera import Camera, look_at
 from bodyplay.trackers.colorshirt.floor import (
     BackgroundPlate,
     FeetPoint,
+    FloorWatch,
     feet_points,
     floor_depth,
     person_region,
@@ -37,6 +38,17 @@ def _learned(room: np.ndarray, frames: int = 10) -> BackgroundPlate:
     for _ in range(frames):
         plate.learn(plate.small(room))
     return plate
+
+
+def _watching(room: np.ndarray, player: np.ndarray, frames: int = 10) -> FloorWatch:
+    """A floor watch that learned ``room`` and then saw ``player`` in the shirt's box."""
+    watch = FloorWatch()
+    for _ in range(frames):
+        watch.start(room)
+        watch.no_shirt()
+    watch.start(player)
+    watch.shirt_at(SHIRT)
+    return watch
 
 
 def _feet(plate: BackgroundPlate, image: np.ndarray) -> tuple[FeetPoint, ...]:
@@ -101,16 +113,9 @@ def test_floor_depth_is_the_depth_of_the_floor_point_under_the_pixel() -> None:
 
 
 def test_floor_watch_learns_the_room_until_the_shirt_appears_then_finds_feet() -> None:
-    from bodyplay.trackers.colorshirt.floor import FloorWatch
-
     room = _room()
-    watch = FloorWatch()
-    for _ in range(10):
-        watch.start(room)
-        watch.no_shirt()
     player = _person(room, feet_v=415)
-    watch.start(player)
-    watch.shirt_at(SHIRT)
+    watch = _watching(room, player)
     assert watch.last_feet == ()  # nothing searched yet
     assert len(watch.feet()) == 2 and watch.last_feet == watch.feet()
     watch.start(player)
@@ -121,17 +126,10 @@ def test_floor_watch_learns_the_room_until_the_shirt_appears_then_finds_feet() -
 
 
 def test_crop_foreground_masks_the_room_next_to_the_shirt_at_the_crop_size() -> None:
-    from bodyplay.trackers.colorshirt.floor import FloorWatch
-
     room = _room()
-    watch = FloorWatch()
-    watch.start(room)
-    assert watch.crop_foreground((240, 80, 400, 280), (64, 80)) is None  # no plate yet
-    for _ in range(10):
-        watch.start(room)
-        watch.no_shirt()
-    watch.start(_person(room))
-    watch.shirt_at(SHIRT)
+    unready = _watching(room, _person(room), frames=1)
+    assert unready.crop_foreground((240, 80, 400, 280), (64, 80)) is None  # no plate yet
+    watch = _watching(room, _person(room))
     mask = watch.crop_foreground((240, 80, 400, 280), (64, 80))  # 160 x 200 px -> 64 x 80
     assert mask is not None and mask.shape == (80, 64) and mask.dtype == bool
     # the crop's x 240..400 maps to 0..64: the shirt (280..360) is 16..48, rows 120..240 -> 16..64
@@ -140,13 +138,6 @@ def test_crop_foreground_masks_the_room_next_to_the_shirt_at_the_crop_size() -> 
 
 
 def test_crop_foreground_is_none_for_a_box_outside_the_image() -> None:
-    from bodyplay.trackers.colorshirt.floor import FloorWatch
-
     room = _room()
-    watch = FloorWatch()
-    for _ in range(10):
-        watch.start(room)
-        watch.no_shirt()
-    watch.start(_person(room))
-    watch.shirt_at(SHIRT)
+    watch = _watching(room, _person(room))
     assert watch.crop_foreground((700, 500, 800, 600), (32, 32)) is None

@@ -118,6 +118,21 @@ def _chain(C: NDArray[np.float64], rel: NDArray[np.float64], c: int, M: NDArray[
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
+def _camera_point(M: NDArray[np.float64], j: int, local: NDArray[np.float64],
+                  normal: NDArray[np.float64]
+                  ) -> tuple[float, float, float, bool]:  # pragma: no cover - compiled
+    """A surface point of node ``j`` in the camera's frame, and whether it faces the
+    camera (in front of it, its normal pointing back towards the origin)."""
+    xc = M[j, 0, 0] * local[0] + M[j, 0, 1] * local[1] + M[j, 0, 2] * local[2] + M[j, 0, 3]
+    yc = M[j, 1, 0] * local[0] + M[j, 1, 1] * local[1] + M[j, 1, 2] * local[2] + M[j, 1, 3]
+    zc = M[j, 2, 0] * local[0] + M[j, 2, 1] * local[1] + M[j, 2, 2] * local[2] + M[j, 2, 3]
+    wx = M[j, 0, 0] * normal[0] + M[j, 0, 1] * normal[1] + M[j, 0, 2] * normal[2]
+    wy = M[j, 1, 0] * normal[0] + M[j, 1, 1] * normal[1] + M[j, 1, 2] * normal[2]
+    wz = M[j, 2, 0] * normal[0] + M[j, 2, 1] * normal[1] + M[j, 2, 2] * normal[2]
+    return xc, yc, zc, bool(wx * xc + wy * yc + wz * zc < 0.0 and zc > 0.05)
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, error_model="numpy")
 def _chamfer(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np.int64],
              plocal: NDArray[np.float64], pnormal: NDArray[np.float64],
              pcolor: NDArray[np.int64], K: NDArray[np.float64], R: NDArray[np.float64],
@@ -125,11 +140,7 @@ def _chamfer(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np
              scale: float, dts: NDArray[np.float32], tau: float,
              cost: NDArray[np.float64], seen: NDArray[np.float64]
              ) -> None:  # pragma: no cover - compiled
-    """Add every candidate's truncated chamfer cost and visible-point count for one camera.
-
-    Points and normals go straight to the camera's frame; a point faces the camera
-    when its normal points back towards the origin there.
-    """
+    """Add every candidate's truncated chamfer cost and visible-point count for one camera."""
     h = dts.shape[1]
     w = dts.shape[2]
     C = _camera_from(A, R, t)
@@ -144,16 +155,8 @@ def _chamfer(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np
         total = 0.0
         vis = 0.0
         for i in range(plocal.shape[0]):
-            j = pnode[i]
-            lx, ly, lz = plocal[i, 0], plocal[i, 1], plocal[i, 2]
-            xc = M[j, 0, 0] * lx + M[j, 0, 1] * ly + M[j, 0, 2] * lz + M[j, 0, 3]
-            yc = M[j, 1, 0] * lx + M[j, 1, 1] * ly + M[j, 1, 2] * lz + M[j, 1, 3]
-            zc = M[j, 2, 0] * lx + M[j, 2, 1] * ly + M[j, 2, 2] * lz + M[j, 2, 3]
-            nx, ny, nz = pnormal[i, 0], pnormal[i, 1], pnormal[i, 2]
-            wx = M[j, 0, 0] * nx + M[j, 0, 1] * ny + M[j, 0, 2] * nz
-            wy = M[j, 1, 0] * nx + M[j, 1, 1] * ny + M[j, 1, 2] * nz
-            wz = M[j, 2, 0] * nx + M[j, 2, 1] * ny + M[j, 2, 2] * nz
-            if wx * xc + wy * yc + wz * zc >= 0.0 or zc <= 0.05:
+            xc, yc, zc, faces = _camera_point(M, pnode[i], plocal[i], pnormal[i])
+            if not faces:
                 continue
             iz = 1.0 / zc
             u = (fx * xc + skew * yc) * iz + cx
@@ -424,16 +427,8 @@ def _project(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np
     for c in range(rel.shape[0]):
         _chain(C, rel, c, M)
         for i in range(plocal.shape[0]):
-            j = pnode[i]
-            lx, ly, lz = plocal[i, 0], plocal[i, 1], plocal[i, 2]
-            xc = M[j, 0, 0] * lx + M[j, 0, 1] * ly + M[j, 0, 2] * lz + M[j, 0, 3]
-            yc = M[j, 1, 0] * lx + M[j, 1, 1] * ly + M[j, 1, 2] * lz + M[j, 1, 3]
-            zc = M[j, 2, 0] * lx + M[j, 2, 1] * ly + M[j, 2, 2] * lz + M[j, 2, 3]
-            nx, ny, nz = pnormal[i, 0], pnormal[i, 1], pnormal[i, 2]
-            wx = M[j, 0, 0] * nx + M[j, 0, 1] * ny + M[j, 0, 2] * nz
-            wy = M[j, 1, 0] * nx + M[j, 1, 1] * ny + M[j, 1, 2] * nz
-            wz = M[j, 2, 0] * nx + M[j, 2, 1] * ny + M[j, 2, 2] * nz
-            if wx * xc + wy * yc + wz * zc >= 0.0 or zc <= 0.05:
+            xc, yc, zc, faces = _camera_point(M, pnode[i], plocal[i], pnormal[i])
+            if not faces:
                 continue
             uv[c, i, 0] = ((K[0, 0] * xc + K[0, 1] * yc) / zc + K[0, 2] - x0) * scale
             uv[c, i, 1] = (K[1, 1] * yc / zc + K[1, 2] - y0) * scale
