@@ -5,10 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from bodyplay.body.joints import JOINT_INDEX
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt import ColorShirtOptions
-from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, join_anchors
-from bodyplay.trackers.colorshirt.head import find_head
+from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, head_from_cue, join_anchors
+from bodyplay.trackers.colorshirt.head import HeadPoint, find_head
 from bodyplay.trackers.colorshirt.ik import PatchAnchors
 
 HEAD = np.array([320.0, 100.0])  # full-resolution centre of the head
@@ -87,3 +90,54 @@ def test_head_anchors_join_the_shirt_anchors_after_them() -> None:
 def test_options_reject_impossible_head_cue_settings(field: str, value: float) -> None:
     with pytest.raises(ConfigError, match=field):
         ColorShirtOptions(**{field: value})  # type: ignore[arg-type]
+
+
+def _rig_and_pose() -> tuple[Skeleton, np.ndarray, list[Camera]]:
+    sk = Skeleton.from_shape("m")
+    q = sk.rest_pose()
+    q[:3] = (0.0, 1.0, 0.0)
+    cams = []
+    for x in (-0.5, 0.5):
+        R, t = look_at((x, 1.3, 2.6), (0.0, 1.3, 0.0))
+        cams.append(Camera.from_fov(f"cam{len(cams)}", 640, 480, 60.0, R, t))
+    return sk, q, cams
+
+
+def _seen_at(cam: Camera, point: np.ndarray) -> HeadPoint:
+    u, v = cam.project(point, distort=False)
+    return HeadPoint(float(u), float(v), 15.0, 1.0)
+
+
+def test_head_from_cue_triangulates_the_heads_found_by_two_cameras() -> None:
+    sk, q, cams = _rig_and_pose()
+    opts = ColorShirtOptions()
+    head = sk.joint_positions(q)[JOINT_INDEX["head"]]
+    true_head = head + np.array([0.01, 0.035, -0.02])  # a longer neck than the preset's
+    visible = true_head + np.array([0.0, opts.head_offset, 0.0])
+    found = [(i, _seen_at(c, visible)) for i, c in enumerate(cams)]
+    out = head_from_cue(sk, q, cams, found, opts)
+    assert out is not None
+    assert np.linalg.norm(out - true_head) < 1e-3
+
+
+def test_head_from_cue_with_one_camera_moves_the_head_across_the_ray_only() -> None:
+    sk, q, cams = _rig_and_pose()
+    opts = ColorShirtOptions()
+    head = sk.joint_positions(q)[JOINT_INDEX["head"]]
+    visible = head + np.array([0.0, opts.head_offset + 0.03, 0.0])
+    out = head_from_cue(sk, q, cams[:1], [(0, _seen_at(cams[0], visible))], opts)
+    assert out is not None
+    seen = cams[0].project(out + np.array([0.0, opts.head_offset, 0.0]), distort=False)
+    assert np.allclose(seen, cams[0].project(visible, distort=False), atol=0.05)
+    depth = cams[0].world_to_camera(np.stack([out, head]))[:, 2]
+    assert abs(depth[0] - depth[1]) < 0.01  # the depth is the pose's
+
+
+def test_head_from_cue_ignores_a_head_far_from_the_fitted_one() -> None:
+    sk, q, cams = _rig_and_pose()
+    opts = ColorShirtOptions()
+    head = sk.joint_positions(q)[JOINT_INDEX["head"]]
+    far = head + np.array([0.3, 0.0, 0.0])
+    assert head_from_cue(sk, q, cams, [(i, _seen_at(c, far)) for i, c in enumerate(cams)],
+                         opts) is None
+    assert head_from_cue(sk, q, cams, [], opts) is None

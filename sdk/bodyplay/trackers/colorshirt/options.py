@@ -36,7 +36,9 @@ class ColorShirtOptions:
     * ``background_subtraction``: MOG2 foreground mask for search and classification.
     * ``work_size``: largest side (px) of the working crop the shirt is classified in;
       ``crop_margin`` its size relative to the located window; ``blob_fraction``:
-      classified blobs smaller than this fraction of the largest are dropped.
+      classified blobs smaller than this fraction of the largest are dropped, unless
+      they lie within ``blob_attach`` of the shirt's extent of the largest (an arm
+      held beside the body, cut off from the torso by its white shoulder cap).
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
       as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
       share of the crop a patch must cover to become an IK anchor.
@@ -96,6 +98,7 @@ class ColorShirtOptions:
     work_size: int = 128
     crop_margin: float = 2.6
     blob_fraction: float = 0.15
+    blob_attach: float = 0.1
     min_colors: int = 4
     min_color_fraction: float = 0.002
     min_patch_fraction: float = 0.0015
@@ -138,6 +141,7 @@ class ColorShirtOptions:
             raise ConfigError("ik_rounds must be between 1 and 5")
         for name, value in (("wb_smoothing", self.wb_smoothing),
                             ("blob_fraction", self.blob_fraction),
+                            ("blob_attach", self.blob_attach),
                             ("min_color_fraction", self.min_color_fraction),
                             ("min_patch_fraction", self.min_patch_fraction)):
             if not (np.isfinite(value) and 0 <= value < 1):

@@ -21,12 +21,13 @@ import copy
 import dataclasses
 import time
 from dataclasses import dataclass
+from typing import cast
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS, UPPER_BODY
+from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES, NUM_JOINTS, UPPER_BODY
 from bodyplay.body.shirt import NUM_COLORS, PATCHES
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
@@ -45,10 +46,12 @@ from bodyplay.trackers.colorshirt.cues import (
     HEAD_PATCH,
     floor_root_priors,
     head_anchors,
+    head_from_cue,
     join_anchors,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
+from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -258,7 +261,7 @@ class ColorShirtTracker:
         if cmask is not None:
             fg &= cmask
         W, ids = classify_camera(st, crop, cmask, fg, self.color_model, self._noise_model, o)
-        ids = clean_ids(ids, self.options.blob_fraction)
+        ids = clean_ids(ids, o.blob_fraction, o.blob_attach)
         counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
         min_px = max(4, int(o.min_color_fraction * ids.size))
         if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
@@ -332,7 +335,7 @@ class ColorShirtTracker:
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
         pen, owner = self.renderer.prior_penalty(rend, C, min_px)
         cls = self._noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
-        ids = clean_ids(cls.ids, self.options.blob_fraction)
+        ids = clean_ids(cls.ids, o.blob_fraction, o.blob_attach)
         view.ids = ids
         k = ids.astype(np.int64) - 1
         yy, xx = np.nonzero(ids)
@@ -573,6 +576,10 @@ class ColorShirtTracker:
         J = self.skeleton.joint_positions(q)
         n_up = len(UPPER_BODY)
         joints[:n_up] = J[:n_up]
+        heads = cast(list[tuple[int, HeadPoint]], self.diagnostics.get("heads", []))
+        head = head_from_cue(self.skeleton, q, self.cameras, heads, self.options)
+        if head is not None:
+            joints[JOINT_INDEX["head"]] = head
         torso_seen = len(seen & _TORSO) >= 2
         match = 1.0 - min(v.distance for v in views)
         state: list[JointState] = []

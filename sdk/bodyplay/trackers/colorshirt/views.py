@@ -77,14 +77,19 @@ class CameraView:
     patch_ids: NDArray[np.uint8] | None = None
 
 
-def clean_ids(ids: NDArray[np.uint8], blob_fraction: float) -> NDArray[np.uint8]:
+def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
+              attach_fraction: float = 0.1) -> NDArray[np.uint8]:
     """Keep the shirt-like blobs of a classification.
 
     Speckle is opened away. Blobs are formed from the colored (non-white)
-    pixels, grown a little so a patch touches its neighbours; only blobs holding
-    at least two shirt colors count (dropping single-colored objects) and only
-    those not far smaller than the largest. White, which walls and mortar also
-    match, is kept only next to the kept blobs.
+    pixels, grown a little so a patch touches its neighbours. The largest blob
+    holding at least two shirt colors is the shirt; other blobs are kept when
+    they hold two colors and are not far smaller than it (``blob_fraction`` of
+    its area), or when they come within ``attach_fraction`` of the shirt's extent
+    of it: an arm held beside the body is separated from the torso by its
+    shoulder cap, and where that cap is white (which is not a blob color) the
+    arm is a small blob of its own that must not be dropped. White, which walls
+    and mortar also match, is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
@@ -101,10 +106,19 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float) -> NDArray[np.uint8]
     valid[0] = False
     if not valid.any():
         return np.zeros_like(ids)
-    keep = valid & (area >= blob_fraction * area[valid].max())
+    main = int(np.argmax(np.where(valid, area, 0)))
+    ys, xs = np.nonzero(core * (labels == main))
+    extent = max(np.ptp(xs), np.ptp(ys))
+    keep = valid & (area >= blob_fraction * area[main])
+    reach = int(attach_fraction * extent)
+    if reach > 0:
+        main_mask = (labels == main).astype(np.uint8)
+        around = cv2.dilate(main_mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)) > 0
+        touching = np.bincount(labels[around & sel], minlength=n) > 0
+        keep |= touching & (area >= 3)
+    keep[0] = False
     kept = core * keep[labels].astype(np.uint8)
-    ys, xs = np.nonzero(core * (labels == np.argmax(np.where(valid, area, 0))))
-    r = max(2, int(0.05 * max(np.ptp(xs), np.ptp(ys))))
+    r = max(2, int(0.05 * extent))
     near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
     keep_px = np.asarray(kept, np.uint8) | (np.asarray(white, np.uint8)
                                             & np.asarray(near, np.uint8))

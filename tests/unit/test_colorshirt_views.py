@@ -1,0 +1,52 @@
+"""Specifications of the classification clean-up (views.clean_ids)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids
+
+RED, ORANGE, CYAN, PURPLE = 1, 2, 6, 8
+
+
+def _torso(ids: np.ndarray) -> None:
+    """A 50 x 40 two-color torso at rows 20..70, columns 40..80."""
+    ids[20:70, 40:60] = RED
+    ids[20:70, 60:80] = ORANGE
+
+
+def test_arm_cut_off_by_a_white_shoulder_cap_stays_with_the_shirt() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[18:24, 30:40] = WHITE_ID          # the white cap between torso and arm
+    ids[24:40, 29:35] = CYAN              # upper arm, 5 px from the torso
+    ids[40:56, 29:35] = PURPLE            # forearm
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert np.count_nonzero(out == CYAN) == np.count_nonzero(ids == CYAN)
+    assert np.count_nonzero(out == PURPLE) == np.count_nonzero(ids == PURPLE)
+    assert np.count_nonzero(out == WHITE_ID) > 0
+
+
+def test_arm_beside_the_body_was_dropped_without_the_attach_rule() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[24:40, 29:35] = CYAN
+    ids[40:56, 29:35] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.0)
+    assert not np.any(out == CYAN)
+
+
+def test_small_colorful_blob_far_from_the_shirt_is_dropped() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[85:95, 100:105] = CYAN            # a poster in the room, 15 px below the shirt
+    ids[85:95, 105:110] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert not np.any(out[75:, 90:])
+    assert np.count_nonzero(out) == 2000
+
+
+def test_one_colored_object_alone_is_not_a_shirt() -> None:
+    ids = np.zeros((60, 60), np.uint8)
+    ids[10:50, 10:50] = CYAN
+    assert not np.any(clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1))
