@@ -117,7 +117,10 @@ def test_head_from_cue_triangulates_the_heads_found_by_two_cameras() -> None:
     found = [(i, _seen_at(c, visible)) for i, c in enumerate(cams)]
     out = head_from_cue(sk, q, cams, found, opts)
     assert out is not None
-    assert np.linalg.norm(out - true_head) < 1e-3
+    # across the rays it lands on the found head; along them (depth, which a 1 m
+    # baseline tells poorly) the pull towards the fitted head keeps part of the gap
+    assert np.abs(out - true_head)[:2].max() < 0.005
+    assert np.linalg.norm(out - true_head) < 0.5 * np.linalg.norm(head - true_head)
 
 
 def test_head_from_cue_with_one_camera_moves_the_head_across_the_ray_only() -> None:
@@ -127,8 +130,11 @@ def test_head_from_cue_with_one_camera_moves_the_head_across_the_ray_only() -> N
     visible = head + np.array([0.0, opts.head_offset + 0.03, 0.0])
     out = head_from_cue(sk, q, cams[:1], [(0, _seen_at(cams[0], visible))], opts)
     assert out is not None
+    before = cams[0].project(head + np.array([0.0, opts.head_offset, 0.0]), distort=False)
     seen = cams[0].project(out + np.array([0.0, opts.head_offset, 0.0]), distort=False)
-    assert np.allclose(seen, cams[0].project(visible, distort=False), atol=0.05)
+    target = cams[0].project(visible, distort=False)
+    # most of the way onto the ray (the pull towards the fitted head keeps a tenth)
+    assert np.linalg.norm(seen - target) < 0.15 * np.linalg.norm(before - target)
     depth = cams[0].world_to_camera(np.stack([out, head]))[:, 2]
     assert abs(depth[0] - depth[1]) < 0.01  # the depth is the pose's
 
