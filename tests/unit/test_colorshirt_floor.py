@@ -141,3 +141,17 @@ def test_crop_foreground_is_none_for_a_box_outside_the_image() -> None:
     room = _room()
     watch = _watching(room, _person(room))
     assert watch.crop_foreground((700, 500, 800, 600), (32, 32)) is None
+
+
+@pytest.mark.parametrize(("room_level", "found"), [(110, False), (40, True)])
+def test_plate_threshold_shrinks_with_the_rooms_light(room_level: int, found: bool) -> None:
+    # a face 30 levels (summed over R, G, B) brighter than the wall behind it: below
+    # the threshold in a mid-gray room, foreground in a dim one where every
+    # difference is smaller
+    room = np.full((120, 160, 3), room_level, np.uint8)
+    person = room.copy()
+    person[40:80, 60:100] = room_level + 10
+    plate = _learned(room)
+    fg = plate.foreground(plate.small(person), (0, 0, 80, 60))
+    assert fg is not None
+    assert bool(fg[25:35, 35:45].all()) is found
