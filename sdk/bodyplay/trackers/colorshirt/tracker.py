@@ -27,13 +27,13 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES, NUM_JOINTS, UPPER_BODY
-from bodyplay.body.shirt import NUM_COLORS, PATCHES
+from bodyplay.body.joints import UPPER_BODY
+from bodyplay.body.shirt import NUM_COLORS
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError, TimestampError
-from bodyplay.trackers.base import JointState, TrackerCapabilities, TrackResult, lost_result
+from bodyplay.trackers.base import TrackerCapabilities, TrackResult, lost_result
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
     BodyModel,
@@ -43,10 +43,8 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
-    HEAD_PATCH,
     floor_root_priors,
     head_anchors,
-    head_from_cue,
     join_anchors,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
@@ -62,6 +60,7 @@ from bodyplay.trackers.colorshirt.prediction import (
     RenderedPose,
     patch_stats,
 )
+from bodyplay.trackers.colorshirt.report import pose_result
 from bodyplay.trackers.colorshirt.views import (
     WHITE_ID,
     CameraState,
@@ -83,17 +82,6 @@ _REDUCE = 2
 
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
-
-_TORSO = {p.id for p in PATCHES if p.bone in ("thorax", "lumbar")}
-_JOINT_PATCHES: dict[str, set[int]] = {
-    "l_shoulder": {p.id for p in PATCHES if p.bone in ("l_clavicle", "l_shoulder")},
-    "r_shoulder": {p.id for p in PATCHES if p.bone in ("r_clavicle", "r_shoulder")},
-    "l_elbow": {p.id for p in PATCHES if p.bone in ("l_shoulder", "l_elbow")},
-    "r_elbow": {p.id for p in PATCHES if p.bone in ("r_shoulder", "r_elbow")},
-    "l_wrist": {p.id for p in PATCHES if p.bone == "l_elbow"},
-    "r_wrist": {p.id for p in PATCHES if p.bone == "r_elbow"},
-}
-
 
 @dataclass(eq=False)
 class _Fit:
@@ -572,37 +560,10 @@ class ColorShirtTracker:
 
     def _result(self, frames: FrameSet, q: NDArray[np.float64], seen: set[int],
                 views: list[CameraView], t0: float) -> TrackResult:
-        joints = np.full((NUM_JOINTS, 3), np.nan)
-        J = self.skeleton.joint_positions(q)
-        n_up = len(UPPER_BODY)
-        joints[:n_up] = J[:n_up]
         heads = cast(list[tuple[int, HeadPoint]], self.diagnostics.get("heads", []))
-        head = head_from_cue(self.skeleton, q, self.cameras, heads, self.options)
-        if head is not None:
-            joints[JOINT_INDEX["head"]] = head
-        torso_seen = len(seen & _TORSO) >= 2
-        match = 1.0 - min(v.distance for v in views)
-        state: list[JointState] = []
-        conf = np.zeros(NUM_JOINTS)
-        for j, name in enumerate(JOINT_NAMES):
-            if j >= n_up:
-                state.append("lost")
-                continue
-            if name in _JOINT_PATCHES:
-                tracked = bool(seen & _JOINT_PATCHES[name])
-            elif name == "head":
-                tracked = HEAD_PATCH in seen  # seen above the collar, else the blend's
-            else:
-                tracked = torso_seen
-            state.append("tracked" if tracked else "inferred")
-            conf[j] = (0.9 if tracked else 0.4) * match
-        ms = 1000.0 * (time.perf_counter() - t0)
-        return TrackResult(frames.index, frames.t, joints, tuple(state), conf, ms, q,
-                           extras={"cameras_used": [v.index for v in views],
-                                   "mismatch": 1.0 - match,
-                                   "classified": [(v.index, v.window, v.ids) for v in views],
-                                   "feet": [(v.index, self._cams[v.index].floor.last_feet)
-                                            for v in views],
-                                   "floor_cue": bool(self._root_priors),
-                                   "heads": self.diagnostics.get("heads", []),
-                                   "arms": self.diagnostics.get("arms", [])})
+        extras: dict[str, object] = {
+            "feet": [(v.index, self._cams[v.index].floor.last_feet) for v in views],
+            "floor_cue": bool(self._root_priors),
+            "arms": self.diagnostics.get("arms", [])}
+        return pose_result(frames, self.skeleton, q, seen, views, self.cameras, heads,
+                           self.options, 1000.0 * (time.perf_counter() - t0), extras)
