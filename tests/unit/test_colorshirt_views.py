@@ -50,3 +50,12 @@ def test_one_colored_object_alone_is_not_a_shirt() -> None:
     ids = np.zeros((60, 60), np.uint8)
     ids[10:50, 10:50] = CYAN
     assert not np.any(clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1))
+
+
+def test_one_colored_blob_next_to_the_shirt_is_dropped() -> None:
+    # skin above the collar classified as orange must not join the shirt
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[6:15, 55:65] = ORANGE             # the face, 5 px above the torso
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert not np.any(out[:18])

@@ -84,11 +84,12 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     Speckle is opened away. Blobs are formed from the colored (non-white)
     pixels, grown a little so a patch touches its neighbours. The largest blob
     holding at least two shirt colors is the shirt; other blobs are kept when
-    they hold two colors and are not far smaller than it (``blob_fraction`` of
-    its area), or when they come within ``attach_fraction`` of the shirt's extent
-    of it: an arm held beside the body is separated from the torso by its
-    shoulder cap, and where that cap is white (which is not a blob color) the
-    arm is a small blob of its own that must not be dropped. White, which walls
+    they hold two colors and are either not far smaller than it (``blob_fraction``
+    of its area) or within ``attach_fraction`` of the shirt's extent of it: an arm
+    held beside the body is separated from the torso by its shoulder cap, and
+    where that cap is white (which is not a blob color) the arm is a small blob of
+    its own that must not be dropped. One-colored blobs never count (next to the
+    shirt that would keep the face or a hand classified as a shirt color). White, which walls
     and mortar also match, is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
@@ -115,7 +116,7 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
         main_mask = (labels == main).astype(np.uint8)
         around = cv2.dilate(main_mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)) > 0
         touching = np.bincount(labels[around & sel], minlength=n) > 0
-        keep |= touching & (area >= 3)
+        keep |= touching & valid
     keep[0] = False
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
