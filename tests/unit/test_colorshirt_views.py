@@ -59,3 +59,12 @@ def test_one_colored_blob_next_to_the_shirt_is_dropped() -> None:
     ids[6:15, 55:65] = ORANGE             # the face, 5 px above the torso
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
     assert not np.any(out[:18])
+
+
+def test_lone_forearm_next_to_the_shirt_is_kept_in_its_sleeve_color() -> None:
+    # the upper arm hidden behind the body: only the purple forearm shows, 5 px away
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[40:60, 29:35] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert np.count_nonzero(out == PURPLE) == 120

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
+from bodyplay.body.shirt import NUM_COLORS, PATCHES, SHIRT_COLORS
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import FloorWatch
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
@@ -42,6 +42,10 @@ LIGHT_JUMP = 0.25
 """Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
 
 WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
+_SLEEVE_IDS = np.array(sorted(
+    1 + c.index for c in SHIRT_COLORS
+    if all(p.bone.endswith(("_shoulder", "_elbow")) for p in PATCHES if p.color == c.index)))
+"""Class ids of the colors found only on the sleeves (green, cyan, blue, purple)."""
 """The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
 
 
@@ -88,8 +92,9 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     of its area) or within ``attach_fraction`` of the shirt's extent of it: an arm
     held beside the body is separated from the torso by its shoulder cap, and
     where that cap is white (which is not a blob color) the arm is a small blob of
-    its own that must not be dropped. One-colored blobs never count (next to the
-    shirt that would keep the face or a hand classified as a shirt color). White, which walls
+    its own that must not be dropped. Next to the shirt a one-colored blob is kept
+    only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
+    colors it is more likely the face or a hand than a piece of shirt. White, which walls
     and mortar also match, is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
@@ -116,7 +121,8 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
         main_mask = (labels == main).astype(np.uint8)
         around = cv2.dilate(main_mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)) > 0
         touching = np.bincount(labels[around & sel], minlength=n) > 0
-        keep |= touching & valid
+        sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
+        keep |= touching & (valid | sleeve)
     keep[0] = False
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
