@@ -145,7 +145,7 @@ def test_color_distance_maps_measure_pixels_to_the_nearest_pixel_of_each_color()
 
 @pytest.mark.parametrize("field, value", [("arm_library", 0), ("arm_tau", 0.0),
                                           ("arm_tau", float("nan")),
-                                          ("arm_temperature", -0.1)])
+                                          ("arm_temperature", -0.1), ("arm_shortlist", 0)])
 def test_options_reject_arm_search_settings_out_of_range(field: str, value: float) -> None:
     with pytest.raises(ConfigError, match=field):
         ColorShirtOptions(**{field: value})  # type: ignore[arg-type]

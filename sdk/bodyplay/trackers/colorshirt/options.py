@@ -73,7 +73,9 @@ class ColorShirtOptions:
       over the database's arms) whose shirt points best match the classified pixels
       in every camera, by a truncated chamfer distance (``arm_tau`` shirt sizes);
       the best few are blended with weights ``exp(-cost / arm_temperature)``
-      (beyond the paper; see :mod:`.armsearch`).
+      (beyond the paper; see :mod:`.armsearch`). ``arm_shortlist``: how many
+      candidates per arm the model-to-image cost passes on to the pairwise stage,
+      which also charges observed arm pixels left unexplained.
     * ``plate_mask``: once the background plate is learned (``floor_cue`` or
       ``head_cue``, from empty-room frames before the shirt appears), only pixels
       that differ from it are classified. MOG2's mask counts the player's last box
@@ -121,6 +123,7 @@ class ColorShirtOptions:
     arm_library: int = 1000
     arm_tau: float = 0.15
     arm_temperature: float = 0.02
+    arm_shortlist: int = 24
     plate_mask: bool = True
     locate: LocateOptions = field(default_factory=LocateOptions)
 
@@ -176,6 +179,9 @@ class ColorShirtOptions:
         if not (np.isfinite(self.arm_temperature) and 0 <= self.arm_temperature <= 1):
             raise ConfigError("arm_temperature must be within 0 (take the best arm) and 1 "
                               "(default 0.02)")
+        if not 1 <= self.arm_shortlist <= 200:
+            raise ConfigError("arm_shortlist must be between 1 and 200 candidates per arm "
+                              "(default 24)")
         if not (np.isfinite(self.arm_tau) and 0.01 <= self.arm_tau <= 2.0):
             raise ConfigError("arm_tau must be within 0.01..2 shirt sizes (default 0.15)")
         if self.initial_white_balance is not None:

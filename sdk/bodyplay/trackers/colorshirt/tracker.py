@@ -522,7 +522,7 @@ class ColorShirtTracker:
         if o.arm_search and len(views) > 1:
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
-                o.arm_tau, o.arm_temperature)
+                o.arm_tau, o.arm_temperature, o.arm_shortlist)
         self.diagnostics["q_blend"] = q_b
         verts = self.renderer.vertices(q_b)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
