@@ -365,7 +365,7 @@ class ArmSearches:
     def search(self, body: str, renderer: PoseRenderer, q: NDArray[np.float64],
                cameras: tuple[Camera, ...], views: list[CameraView],
                previous: NDArray[np.float64] | None, tau: float, temperature: float,
-               top: int = 24) -> tuple[NDArray[np.float64], list[ArmChoice]]:
+               top: int) -> tuple[NDArray[np.float64], list[ArmChoice]]:
         """:meth:`ArmSearch.search` of ``body`` on the tracker's camera views.
 
         ``tau`` is the truncation in shirt sizes (each view's classified extent),

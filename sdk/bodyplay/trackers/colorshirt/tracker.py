@@ -83,6 +83,7 @@ _REDUCE = 2
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
 
+
 @dataclass(eq=False)
 class _Fit:
     """One body's fit of a frame: pose, anchored patches, mean relative residual."""

@@ -42,11 +42,12 @@ LIGHT_JUMP = 0.25
 """Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
 
 WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
+"""The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
+
 _SLEEVE_IDS = np.array(sorted(
     1 + c.index for c in SHIRT_COLORS
     if all(p.bone.endswith(("_shoulder", "_elbow")) for p in PATCHES if p.color == c.index)))
 """Class ids of the colors found only on the sleeves (green, cyan, blue, purple)."""
-"""The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
 
 
 @dataclass
@@ -94,8 +95,8 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     where that cap is white (which is not a blob color) the arm is a small blob of
     its own that must not be dropped. Next to the shirt a one-colored blob is kept
     only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
-    colors it is more likely the face or a hand than a piece of shirt. White, which walls
-    and mortar also match, is kept only next to the kept blobs.
+    colors it is more likely the face or a hand than a piece of shirt. White,
+    which walls and mortar also match, is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
@@ -123,7 +124,6 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
         touching = np.bincount(labels[around & sel], minlength=n) > 0
         sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
         keep |= touching & (valid | sleeve)
-    keep[0] = False
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
     near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
