@@ -143,3 +143,31 @@ def test_body_selection_never_halves_below_two_candidates() -> None:
     for _ in range(4):
         sel.add({"x": 0.2, "y": 0.1, "z": 0.3})
     assert sel.active == ["y", "x"] and sel.chosen == "y"
+
+
+def test_body_selection_with_a_tolerance_keeps_the_first_candidate_that_fits_nearly_best(
+) -> None:
+    names = ("short", "middle", "long")  # the arm stage's order: shortest first
+    strict = BodySelection(names, frames=3, halvings=())
+    tolerant = BodySelection(names, frames=3, halvings=(), tolerance=0.05)
+    for _ in range(3):
+        for sel in (strict, tolerant):
+            sel.add({"short": 0.0212, "middle": 0.0204, "long": 0.0200})
+    assert strict.chosen == "long"
+    assert tolerant.chosen == "middle"  # 2% above the best; "short" is 6% above
+
+
+def test_arm_variants_come_shortest_first_whatever_order_the_scales_are_given_in() -> None:
+    from bodyplay.trackers.colorshirt.bodyselect import BodyModel
+
+    base = BodyModel.build("m", webcam_rig())
+    variants = arm_variants(base, webcam_rig(), (1.0, 0.9, 0.95))
+    assert list(variants) == ["m*0.90", "m*0.95", "m"]
+
+
+def test_arm_tolerance_option_rejects_values_outside_zero_to_a_half() -> None:
+    with pytest.raises(ConfigError, match="arm_tolerance"):
+        ColorShirtOptions(arm_tolerance=-0.1)
+    with pytest.raises(ConfigError, match="arm_tolerance"):
+        ColorShirtOptions(arm_tolerance=float("nan"))
+    assert ColorShirtOptions(arm_tolerance=0.0).arm_tolerance == 0.0

@@ -67,10 +67,10 @@ def with_arm_scale(skeleton: Skeleton, scale: float) -> Skeleton:
 
 def arm_variants(body: BodyModel, cameras: tuple[Camera, ...],
                  scales: tuple[float, ...] = ARM_SCALES) -> dict[str, BodyModel]:
-    """``body`` with each arm length of ``scales``; scale 1 is ``body`` itself, under
-    its own name, the others are named like ``m_slim*0.88``."""
+    """``body`` with each arm length of ``scales``, shortest first; scale 1 is ``body``
+    itself, under its own name, the others are named like ``m_slim*0.88``."""
     out: dict[str, BodyModel] = {}
-    for a in scales:
+    for a in sorted(scales):
         if abs(a - 1.0) < 1e-9:
             out[body.name] = body
         else:
@@ -102,6 +102,10 @@ class BodySelection:
     of ``frames`` after which the worse half of the candidates still in the race
     (``active``) drops out (successive halving, down to two): the clear losers stop
     costing a fit per frame early, the close ones are decided on every frame.
+    ``tolerance``: the first candidate in ``names`` order whose mean residual is
+    within this fraction of the lowest wins (0: the lowest wins); the arm-length
+    stage lists its candidates shortest first, so that it prefers the shortest arm
+    that fits (a longer one fits as well by leaning in depth).
     """
 
     names: tuple[str, ...]
@@ -113,6 +117,7 @@ class BodySelection:
     chosen: str | None = None
     halvings: tuple[float, ...] = (0.5,)
     active: list[str] = field(default_factory=list)
+    tolerance: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.active:
@@ -145,7 +150,9 @@ class BodySelection:
         pool = [n for n in self.active if self.counts.get(n, 0) >= max(1, most // 2)]
         if not pool:
             return self.active[0] if self.active else self.names[0]
-        return min(pool, key=self.mean)
+        best = min(self.mean(n) for n in pool)
+        return next(n for n in self.names if n in pool
+                    and self.mean(n) <= best * (1.0 + self.tolerance))
 
     def means(self) -> dict[str, float]:
         """Mean residual of every candidate (for the diagnostics)."""

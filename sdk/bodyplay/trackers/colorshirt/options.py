@@ -57,7 +57,10 @@ class ColorShirtOptions:
       ``body_selection_frames`` frames with a pose and the one whose patch anchors
       reproject best is kept; then its arm-length variants (``ARM_SCALES``, 0.84-1
       times its arms) are compared the same way over ``arm_selection_frames``
-      frames (0 = keep the preset's arms).
+      frames (0 = keep the preset's arms). Of the arm lengths, the shortest whose
+      mean residual is within ``arm_tolerance`` (a fraction) of the best wins: an
+      arm too long still reprojects well by leaning in depth (one camera cannot see
+      the lean at all), an arm too short cannot reach the observed sleeves.
     * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
       from where the feet meet the floor (beyond the paper; needs a background
       plate, learned on empty-room frames before the shirt first appears);
@@ -113,6 +116,7 @@ class ColorShirtOptions:
     body: str = "auto"
     body_selection_frames: int = 20
     arm_selection_frames: int = 10
+    arm_tolerance: float = 0.05
     floor_cue: bool = True
     floor_offset: float = 0.02
     floor_std: float = 0.05
@@ -165,6 +169,9 @@ class ColorShirtOptions:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if not 0 <= self.arm_selection_frames <= 300:
             raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
+        if not (np.isfinite(self.arm_tolerance) and 0.0 <= self.arm_tolerance <= 0.5):
+            raise ConfigError("arm_tolerance must be within 0 (the best residual wins) and "
+                              "0.5 (default 0.05)")
         if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
             raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
         if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):

@@ -439,8 +439,9 @@ class ColorShirtTracker:
         Each candidate works on its own copies of the views (the pose-assisted
         reclassification rewrites them) with its own previous pose. Until the choice
         is made the frame's result is the reference body's fit (one or two frames,
-        above all with one camera, say little about size); on the deciding frame it
-        is the chosen body's.
+        above all with one camera, say little about size), and while arm lengths are
+        compared the best so far (the lengths differ by a few centimetres, and the
+        preset's own is the longest); on the deciding frame it is the chosen body's.
         """
         sel = self._selection
         assert sel is not None
@@ -461,8 +462,12 @@ class ColorShirtTracker:
             fits[name] = (fit, self.diagnostics)
             residuals[name] = fit.residual
         sel.add(residuals)
-        best = sel.chosen or (self._reference if self._reference in self._bodies
-                              else sel.best())
+        if sel.chosen is not None:
+            best = sel.chosen
+        elif self._arm_stage_started or self._reference not in self._bodies:
+            best = sel.best()  # arm lengths: the best so far beats the preset's own
+        else:
+            best = self._reference
         self._use(self._bodies[best])
         if best not in fits:
             self.diagnostics = {}
@@ -484,7 +489,8 @@ class ColorShirtTracker:
         previous = sel.previous.get(sel.chosen)
         self._reference = sel.chosen
         self._bodies = variants
-        self._selection = BodySelection(tuple(variants), n)
+        self._selection = BodySelection(tuple(variants), n,
+                                        tolerance=self.options.arm_tolerance)
         for name in variants:
             self._selection.previous[name] = previous
 
