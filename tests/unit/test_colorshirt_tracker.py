@@ -220,3 +220,29 @@ def test_options_reject_fractions_outside_zero_to_one(name: str) -> None:
         ColorShirtOptions(**{name: 1.5})
     with pytest.raises(ConfigError, match=name):
         ColorShirtOptions(**{name: -0.1})
+
+
+def test_white_patch_constraints_count_with_white_std_scale_times_the_std(db) -> None:  # type: ignore[no-untyped-def]
+    cams = webcam_rig(2)
+    q = _truth(11)
+    images = _paint(q, cams, np.random.default_rng(5))
+    sigmas = {}
+    for scale in (1.0, 4.0):
+        tr = create_colorshirt_tracker(
+            ColorShirtOptions(background_subtraction=False, body="m", white_std_scale=scale),
+            cams, database=db)
+        assert tr.process(_frameset(images, 0)).found
+        a = tr.diagnostics["anchors"]
+        sigmas[scale] = {(int(c), int(p)): float(s) for c, p, s
+                         in zip(a.camera, a.patch, a.sigma, strict=True)}
+    white = {10, 20}  # the right shoulder cap and the left flank
+    common = sigmas[1.0].keys() & sigmas[4.0].keys()
+    assert any(p in white for _, p in common) and any(p not in white for _, p in common)
+    for key in common:
+        ratio = sigmas[4.0][key] / sigmas[1.0][key]
+        assert ratio == pytest.approx(4.0 if key[1] in white else 1.0, rel=0.2)
+
+
+def test_options_reject_a_white_std_scale_below_one() -> None:
+    with pytest.raises(ConfigError, match="white_std_scale"):
+        ColorShirtOptions(white_std_scale=0.5)

@@ -42,6 +42,12 @@ class ColorShirtOptions:
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
       as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
       share of the crop a patch must cover to become an IK anchor.
+    * ``white_std_scale``: the white patches' (right shoulder cap, left flank)
+      centroid constraints count with this many times the standard deviation of
+      the others (beyond the paper, which weighs every patch alike): white is the
+      one shirt color that bright background (walls, tile joints) and highlights
+      share, and stray white pixels at the shirt's outline pull those centroids
+      (1 = the paper).
     * ``measurement_noise``: std (RGB units) of the camera's measurement error that
       a strong white balance amplifies; the classifier widens every color's Gaussian
       by the amplified part (beyond the paper, which uses the fitted covariances as
@@ -107,6 +113,7 @@ class ColorShirtOptions:
     min_colors: int = 4
     min_color_fraction: float = 0.002
     min_patch_fraction: float = 0.0015
+    white_std_scale: float = 3.0
     measurement_noise: float = 6.0
     max_speed: float = 5.0
     max_mismatch: float = 0.5
@@ -169,6 +176,9 @@ class ColorShirtOptions:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if not 0 <= self.arm_selection_frames <= 300:
             raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
+        if not (np.isfinite(self.white_std_scale) and 1.0 <= self.white_std_scale <= 20.0):
+            raise ConfigError("white_std_scale must be within 1 (white patches count like "
+                              "the others, as in the paper) and 20 (default 3)")
         if not (np.isfinite(self.arm_tolerance) and 0.0 <= self.arm_tolerance <= 0.5):
             raise ConfigError("arm_tolerance must be within 0 (the best residual wins) and "
                               "0.5 (default 0.05)")
