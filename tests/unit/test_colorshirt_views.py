@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids
 
@@ -68,3 +69,26 @@ def test_lone_forearm_next_to_the_shirt_is_kept_in_its_sleeve_color() -> None:
     ids[40:60, 29:35] = PURPLE
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
     assert np.count_nonzero(out == PURPLE) == 120
+
+
+def test_prior_penalty_slope_is_the_papers_under_a_mild_balance_and_grows_with_its_gain(
+) -> None:
+    from bodyplay.trackers.colorshirt.views import prior_penalty_slope
+
+    s = 120.0
+    paper = 6.0 / s
+    assert prior_penalty_slope(6.0, s, np.eye(3), 2.0) == pytest.approx(paper)
+    # a balance that darkens never weakens the prior below the paper's
+    assert prior_penalty_slope(6.0, s, 0.5 * np.eye(3), 2.0) == pytest.approx(paper)
+    # a balance amplifying the image 1.7 times (dim light): C grows by 1.7 ** 2
+    W = np.diag([1.2, 1.7, 1.7**3 / (1.2 * 1.7)])
+    assert prior_penalty_slope(6.0, s, W, 2.0) == pytest.approx(paper * 1.7**2)
+    assert prior_penalty_slope(6.0, s, W, 0.0) == pytest.approx(paper)
+
+
+def test_options_reject_a_negative_prior_gain_power() -> None:
+    from bodyplay.errors import ConfigError
+    from bodyplay.trackers.colorshirt import ColorShirtOptions
+
+    with pytest.raises(ConfigError, match="prior_gain_power"):
+        ColorShirtOptions(prior_gain_power=-1.0)

@@ -29,6 +29,10 @@ class ColorShirtOptions:
       ``database_cache`` (default ``~/.cache/bodyplay``).
     * ``threshold`` (T = 3) and ``prior_threshold`` (T = 5) of the classifier,
       ``prior_strength`` the 6 of ``C = 6 / s``, ``retry_fraction`` the 40% test.
+      ``prior_gain_power``: ``C`` is multiplied by ``g ** prior_gain_power``, ``g``
+      the overall gain of the white balance (``det(W) ** (1/3)``, at least 1):
+      an image the balance must amplify is noisier, so the pose prior counts more
+      (beyond the paper; 0 = the paper).
     * ``multiview_lookup``: with several cameras, rank all cameras' neighbours by
       their mismatch in every camera before blending (else: the best camera's).
     * ``ik_rounds``: IK solves per frame, re-anchoring the patches in between.
@@ -100,6 +104,7 @@ class ColorShirtOptions:
     threshold: float = 3.0
     prior_threshold: float = 5.0
     prior_strength: float = 6.0
+    prior_gain_power: float = 2.0
     retry_fraction: float = 0.4
     reference_distance: float = 0.5
     wb_smoothing: float = 0.5
@@ -176,6 +181,9 @@ class ColorShirtOptions:
             raise ConfigError("body_selection_frames must be between 1 and 300")
         if not 0 <= self.arm_selection_frames <= 300:
             raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
+        if not (np.isfinite(self.prior_gain_power) and 0.0 <= self.prior_gain_power <= 4.0):
+            raise ConfigError("prior_gain_power must be within 0 (the paper's C = 6 / s) and 4 "
+                              "(default 2)")
         if not (np.isfinite(self.white_std_scale) and 1.0 <= self.white_std_scale <= 20.0):
             raise ConfigError("white_std_scale must be within 1 (white patches count like "
                               "the others, as in the paper) and 20 (default 3)")

@@ -68,6 +68,7 @@ from bodyplay.trackers.colorshirt.views import (
     classify_camera,
     clean_ids,
     make_query,
+    prior_penalty_slope,
     share_light_change,
 )
 from bodyplay.trackers.colorshirt.whitebalance import (
@@ -323,7 +324,7 @@ class ColorShirtTracker:
                                ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
         """Step 3: reclassify with the pose prior, then split colors into patches."""
         o = self.options
-        C = o.prior_strength / max(view.shirt_scale, 1.0)
+        C = prior_penalty_slope(o.prior_strength, view.shirt_scale, view.W, o.prior_gain_power)
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
         pen, owner = self.renderer.prior_penalty(rend, C, min_px)
         cls = self._noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)

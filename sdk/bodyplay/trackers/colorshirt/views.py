@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 
 __all__ = ["CameraState", "CameraView", "WHITE_ID", "classify_camera", "clean_ids",
-           "make_query", "share_light_change"]
+           "make_query", "prior_penalty_slope", "share_light_change"]
 
 _MAX_NOISE_GROWTH = 2.5
 """The noise-aware classification is kept unless it finds this many times the pixels
@@ -239,3 +239,17 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
             cls = wide
     return W, cls.ids
+
+
+def prior_penalty_slope(strength: float, shirt_scale: float, W: NDArray[np.float64],
+                        gain_power: float) -> float:
+    """``C`` of the pose-assisted reclassification's penalty ``C d`` (per crop pixel).
+
+    The paper's ``C = strength / s`` (``s`` the shirt's size in the crop), times
+    ``g ** gain_power`` with ``g = max(1, |det W| ** (1/3))`` the overall gain the
+    white balance applies to the image. A strongly amplified image (``g`` about 1.7
+    in the ``dim`` preset, 1.03-1.1 under steady light) carries amplified sensor
+    noise, so its colors say less and the rendered pose should say more.
+    """
+    gain = max(1.0, abs(float(np.linalg.det(W))) ** (1.0 / 3.0))
+    return strength / max(shirt_scale, 1.0) * gain**gain_power
