@@ -204,3 +204,38 @@ def test_plate_mask_leaves_the_room_beside_the_shirt_unclassified_after_a_lead_i
     # MOG2 keeps the player's last box as foreground: most of the crop (0.77 here);
     # the plate keeps only the player, so the room around the shirt is out (0.33)
     assert share[False] > 0.6 and share[True] < 0.5 * share[False], share
+
+
+def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(
+    tmp_path: Path, lead_in_capture: Path
+) -> None:
+    from bodyplay.capture.frames import FrameSet
+    from bodyplay.capture.sources import open_source
+    from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
+    from bodyplay.trackers.colorshirt.bodyselect import reprojection_residual
+    from bodyplay.trackers.colorshirt.cues import HEAD_PATCH
+
+    opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
+                             body="m_slim", arm_selection_frames=0)
+    for ncam in (2, 1):
+        src = open_source(lead_in_capture)
+        assert src.cameras is not None
+        tracker = create_colorshirt_tracker(opts, src.cameras[:ncam])
+        checked = 0
+        with src:
+            for fs in src:
+                r = tracker.process(FrameSet(fs.frames[:ncam], fs.t, fs.index))
+                d = tracker.diagnostics
+                if not r.found or not d["heads"]:
+                    continue
+                anchors = d["anchors"]
+                assert HEAD_PATCH in anchors.patch  # the head is fitted either way
+                size = {v.index: v.shirt_scale / v.window.scale for v, _, _ in d["observed"]}
+                size_px = np.array([size[int(c)] for c in anchors.camera])
+                with_head = reprojection_residual(tracker.solver, r.pose, anchors, size_px)
+                if ncam == 2:
+                    assert d["residual"] == pytest.approx(with_head)
+                else:
+                    assert d["residual"] != pytest.approx(with_head)
+                checked += 1
+        assert checked >= 10

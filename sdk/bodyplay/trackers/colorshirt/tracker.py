@@ -547,7 +547,6 @@ class ColorShirtTracker:
         heads, found = head_anchors(self.skeleton, q_b, self.cameras, self._cams, views, o)
         anchors = join_anchors(anchors, heads)
         self.diagnostics["heads"] = found
-        self.diagnostics["anchors"] = anchors
         self.diagnostics["observed"] = [(v, counts, cents) for v, (counts, cents)
                                         in zip(views, observed, strict=True)]
         q = q_b
@@ -565,8 +564,13 @@ class ColorShirtTracker:
             if round_ + 1 < o.ik_rounds:
                 anchors = join_anchors(self._anchors(q, views, rendered, observed), heads)
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
-        size_px = np.array([size[int(c)] for c in shirt_only.camera], dtype=np.float64)
-        resid = reprojection_residual(self.solver, q, shirt_only, size_px)
+        self.diagnostics["anchors"] = anchors
+        # the residual that chooses the body: with two cameras, the last anchors with
+        # the heads found (triangulated, they tell the neck's length); one camera
+        # cannot place a head in depth, so there the shirt's first anchors alone
+        judged = anchors if len(views) > 1 else shirt_only
+        size_px = np.array([size[int(c)] for c in judged.camera], dtype=np.float64)
+        resid = reprojection_residual(self.solver, q, judged, size_px)
         self.diagnostics["residual"] = resid
         return _Fit(q, {int(p) for p in anchors.patch}, resid, views, rendered)
 
