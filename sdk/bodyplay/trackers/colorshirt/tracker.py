@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.joints import UPPER_BODY
-from bodyplay.body.shirt import NUM_COLORS, NUM_PATCHES, PATCHES
+from bodyplay.body.shirt import NUM_COLORS
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -63,6 +63,7 @@ from bodyplay.trackers.colorshirt.prediction import (
 from bodyplay.trackers.colorshirt.report import pose_result
 from bodyplay.trackers.colorshirt.views import (
     WHITE_ID,
+    WHITE_PATCHES,
     CameraState,
     CameraView,
     classify_camera,
@@ -139,9 +140,6 @@ class ColorShirtTracker:
         self.placement = DatabasePlacement(database, cameras)
         self._undistort = [self._undistort_maps(c) for c in cameras]
         self._arms = ArmSearches(database.poses, options.arm_library)
-        self._white_patch = np.zeros(NUM_PATCHES + 1, bool)
-        self._white_patch[[p.id for p in PATCHES if p.color == WHITE_ID - 1]] = True
-        """Per patch id: whether the patch is white (its constraint std is scaled)."""
         self.reset()
 
     # ---- state ---------------------------------------------------------------------
@@ -301,7 +299,7 @@ class ColorShirtTracker:
             sig = self.prior.centroid * size_px * np.sqrt(
                 np.maximum(1.0, rend.stats.count[pats].max() / (4.0 * counts[pats]))
             )
-            sigmas.append(np.where(self._white_patch[pats], sig * o.white_std_scale, sig))
+            sigmas.append(np.where(WHITE_PATCHES[pats], sig * o.white_std_scale, sig))
             pids.append(pats)
         if not nodes:
             z = np.zeros(0, np.int64)

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.shirt import NUM_COLORS, PATCHES, SHIRT_COLORS
+from bodyplay.body.shirt import NUM_COLORS, NUM_PATCHES, PATCHES, SHIRT_COLORS
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import FloorWatch
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
@@ -31,8 +31,8 @@ if TYPE_CHECKING:
     from bodyplay.trackers.colorshirt.colors import ColorModel
     from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 
-__all__ = ["CameraState", "CameraView", "WHITE_ID", "classify_camera", "clean_ids",
-           "make_query", "prior_penalty_slope", "share_light_change"]
+__all__ = ["CameraState", "CameraView", "WHITE_ID", "WHITE_PATCHES", "classify_camera",
+           "clean_ids", "make_query", "prior_penalty_slope", "share_light_change"]
 
 _MAX_NOISE_GROWTH = 2.5
 """The noise-aware classification is kept unless it finds this many times the pixels
@@ -43,6 +43,11 @@ LIGHT_JUMP = 0.25
 
 WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
 """The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
+
+WHITE_PATCHES = np.isin(np.arange(NUM_PATCHES + 1),
+                        [p.id for p in PATCHES if p.color == WHITE_ID - 1])
+"""Per patch id (0 = background): whether the patch is white (right shoulder cap,
+left flank), whose centroid constraints count with ``white_std_scale``."""
 
 _SLEEVE_IDS = np.array(sorted(
     1 + c.index for c in SHIRT_COLORS
