@@ -108,6 +108,22 @@ def test_search_offers_the_previous_frames_arms_as_a_candidate() -> None:
     assert [c.index for c in choices] == [-2, -2]
 
 
+def test_small_depth_pull_still_lets_the_pixels_replace_arms_of_another_outline() -> None:
+    cam = _cams()[:1]
+    search = ArmSearch(SK, REN.mesh, _library([GUARD]))
+    q, choices = search.search(SPREAD, cam, _views(GUARD, cam), temperature=0.0, pull=0.01)
+    assert _arm_error(q, GUARD) < 0.02
+    assert all(c.index >= 0 for c in choices)
+
+
+def test_strong_depth_pull_keeps_the_blends_arms_whatever_the_pixels_show() -> None:
+    cam = _cams()[:1]
+    search = ArmSearch(SK, REN.mesh, _library([GUARD]))
+    q, choices = search.search(SPREAD, cam, _views(GUARD, cam), temperature=0.0, pull=100.0)
+    assert _arm_error(q, SPREAD) < 1e-6
+    assert [c.index for c in choices] == [-1, -1]
+
+
 def test_search_without_views_returns_the_pose_unchanged() -> None:
     search = ArmSearch(SK, REN.mesh, _library([]))
     q, choices = search.search(GUARD, _cams(), [])
@@ -145,7 +161,9 @@ def test_color_distance_maps_measure_pixels_to_the_nearest_pixel_of_each_color()
 
 @pytest.mark.parametrize("field, value", [("arm_library", 0), ("arm_tau", 0.0),
                                           ("arm_tau", float("nan")),
-                                          ("arm_temperature", -0.1), ("arm_shortlist", 0)])
+                                          ("arm_temperature", -0.1), ("arm_shortlist", 0),
+                                          ("arm_depth_pull", -0.01),
+                                          ("arm_depth_pull", float("inf"))])
 def test_options_reject_arm_search_settings_out_of_range(field: str, value: float) -> None:
     with pytest.raises(ConfigError, match=field):
         ColorShirtOptions(**{field: value})  # type: ignore[arg-type]

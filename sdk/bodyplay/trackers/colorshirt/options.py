@@ -89,6 +89,11 @@ class ColorShirtOptions:
       (beyond the paper; see :mod:`.armsearch`). ``arm_shortlist``: how many
       candidates per arm the model-to-image cost passes on to the pairwise stage,
       which also charges observed arm pixels left unexplained.
+    * ``arm_search_one_camera``: run the arm search when a single camera sees the
+      shirt too, once the body is chosen. One view cannot tell an arm's lean in
+      depth, so each candidate also pays ``arm_depth_pull`` per (10 cm)² of mean
+      squared distance between its elbow and wrist and the blend's (relative to
+      the neck): the image picks the arm's outline, the database blend its depth.
     * ``plate_mask``: once the background plate is learned (``floor_cue`` or
       ``head_cue``, from empty-room frames before the shirt appears), only pixels
       that differ from it are classified. MOG2's mask counts the player's last box
@@ -140,6 +145,8 @@ class ColorShirtOptions:
     arm_tau: float = 0.15
     arm_temperature: float = 0.02
     arm_shortlist: int = 24
+    arm_search_one_camera: bool = True
+    arm_depth_pull: float = 0.01
     plate_mask: bool = True
     locate: LocateOptions = field(default_factory=LocateOptions)
 
@@ -207,6 +214,9 @@ class ColorShirtOptions:
         if not 1 <= self.arm_shortlist <= 200:
             raise ConfigError("arm_shortlist must be between 1 and 200 candidates per arm "
                               "(default 24)")
+        if not (np.isfinite(self.arm_depth_pull) and 0.0 <= self.arm_depth_pull <= 10.0):
+            raise ConfigError("arm_depth_pull must be within 0 (no pull towards the blend's "
+                              "arms) and 10 (default 0.01)")
         if not (np.isfinite(self.arm_tau) and 0.01 <= self.arm_tau <= 2.0):
             raise ConfigError("arm_tau must be within 0.01..2 shirt sizes (default 0.15)")
         if self.initial_white_balance is not None:
