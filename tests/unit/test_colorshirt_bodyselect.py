@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from colorshirt_paint import clutter, webcam_rig
@@ -171,3 +173,43 @@ def test_arm_tolerance_option_rejects_values_outside_zero_to_a_half() -> None:
     with pytest.raises(ConfigError, match="arm_tolerance"):
         ColorShirtOptions(arm_tolerance=float("nan"))
     assert ColorShirtOptions(arm_tolerance=0.0).arm_tolerance == 0.0
+
+
+def test_body_selection_skipped_frames_do_not_count_and_enough_of_them_choose_the_fallback(
+) -> None:
+    sel = BodySelection(("xs", "m"), frames=3, halvings=())
+    sel.add({"xs": 0.01, "m": 0.02})
+    for _ in range(5):
+        sel.skip("m")
+    assert sel.chosen is None and sel.seen == 1  # patience: twice the frames
+    sel.skip("m")
+    assert sel.chosen == "m"
+    sel.add({"xs": 0.01, "m": 0.02})
+    sel.add({"xs": 0.01, "m": 0.02})
+    assert sel.chosen == "m"  # a choice, once made, stays
+
+
+def test_one_camera_without_a_floor_cue_keeps_the_reference_body(db) -> None:  # type: ignore[no-untyped-def]
+    cams = webcam_rig()[:1]
+    opts = ColorShirtOptions(body="auto", body_selection_frames=3, arm_selection_frames=0,
+                             background_subtraction=False)
+    frames = [FrameSet(fs.frames[:1], fs.t, fs.index) for fs in _capture("xs", 7, webcam_rig())]
+    tr = create_colorshirt_tracker(opts, cams, database=db)
+    for fs in frames[:5]:
+        tr.process(fs)
+    assert tr._selection is not None and tr._selection.chosen is None
+    means = tr.diagnostics["body_residuals"]
+    assert isinstance(means, dict) and all(not np.isfinite(v) for v in means.values())
+    tr.process(frames[5])
+    assert tr.body_name == "m"
+    judged = create_colorshirt_tracker(
+        dataclasses.replace(opts, body_choice_max_stagger=float("inf")), cams, database=db)
+    for fs in frames[:3]:
+        judged.process(fs)
+    assert judged._selection is not None and judged._selection.chosen is not None
+
+
+@pytest.mark.parametrize("value", [0.0, -0.1, float("nan")])
+def test_body_choice_max_stagger_option_rejects_non_positive_values(value: float) -> None:
+    with pytest.raises(ConfigError, match="body_choice_max_stagger"):
+        ColorShirtOptions(body_choice_max_stagger=value)

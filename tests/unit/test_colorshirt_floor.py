@@ -155,3 +155,41 @@ def test_plate_threshold_shrinks_with_the_rooms_light(room_level: int, found: bo
     fg = plate.foreground(plate.small(person), (0, 0, 80, 60))
     assert fg is not None
     assert bool(fg[25:35, 35:45].all()) is found
+
+
+def _stance(room: np.ndarray, left_v: int, right_v: int) -> np.ndarray:
+    img = room.copy()
+    x0, y0, x1, y1 = SHIRT
+    img[y0:y1, x0:x1] = (200, 40, 40)
+    img[y1:left_v, x0 + 6: x0 + 32] = (20, 20, 60)
+    img[y1:right_v, x1 - 32: x1 - 6] = (20, 20, 60)
+    return img
+
+
+@pytest.mark.parametrize("right_v, staggered", [(420, False), (440, True), (470, None)])
+def test_floor_reading_tells_how_far_apart_in_depth_the_feet_stand(
+        right_v: int, staggered: bool | None) -> None:
+    from types import SimpleNamespace
+
+    from bodyplay.trackers.colorshirt import ColorShirtOptions
+    from bodyplay.trackers.colorshirt.cues import floor_root_priors
+    from bodyplay.trackers.colorshirt.locate import BackgroundMask
+    from bodyplay.trackers.colorshirt.views import CameraState
+
+    R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
+    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
+    room = _room()
+    state = CameraState(BackgroundMask(), floor=_watching(room, _stance(room, 420, right_v)))
+    view = SimpleNamespace(index=0)
+    reading = floor_root_priors((cam,), (state,), (view,), ColorShirtOptions())  # type: ignore[arg-type]
+    assert len(reading.priors) == 1
+    if staggered is None:  # the far foot is above the lowest tenth: one foot found
+        assert reading.stagger is None
+        return
+    assert reading.stagger is not None
+    near, far = (floor_depth(cam, FeetPoint(320.0, v)) for v in (right_v + 1, 421))
+    assert near is not None and far is not None
+    assert reading.stagger == pytest.approx(far - near, abs=0.03)
+    assert (reading.stagger > ColorShirtOptions().body_choice_max_stagger) == staggered
+    two = floor_root_priors((cam, cam), (state, state), (view, view), ColorShirtOptions())  # type: ignore[arg-type]
+    assert two.priors == () and two.stagger is None  # two cameras see depth themselves

@@ -105,7 +105,9 @@ class BodySelection:
     ``tolerance``: the first candidate in ``names`` order whose mean residual is
     within this fraction of the lowest wins (0: the lowest wins); the arm-length
     stage lists its candidates shortest first, so that it prefers the shortest arm
-    that fits (a longer one fits as well by leaning in depth).
+    that fits (a longer one fits as well by leaning in depth). Frames that cannot
+    judge are :meth:`skip`-ped; after ``patience`` times ``frames`` of them, a
+    fallback is chosen.
     """
 
     names: tuple[str, ...]
@@ -118,6 +120,8 @@ class BodySelection:
     halvings: tuple[float, ...] = (0.5,)
     active: list[str] = field(default_factory=list)
     tolerance: float = 0.0
+    patience: float = 2.0
+    skipped: int = 0
 
     def __post_init__(self) -> None:
         if not self.active:
@@ -135,8 +139,15 @@ class BodySelection:
             if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
                 ranked = sorted(self.active, key=self.mean)
                 self.active = ranked[: max(2, (len(ranked) + 1) // 2)]
-        if self.seen >= self.frames and self.counts:
+        if self.chosen is None and self.seen >= self.frames and self.counts:
             self.chosen = self.best()
+
+    def skip(self, fallback: str) -> None:
+        """Record a frame that cannot judge the candidates; once ``patience * frames``
+        such frames came before the choice, choose ``fallback``."""
+        self.skipped += 1
+        if self.chosen is None and self.skipped >= self.patience * self.frames:
+            self.chosen = fallback
 
     def mean(self, name: str) -> float:
         """Mean residual of a candidate so far (inf before it has any)."""

@@ -16,6 +16,7 @@ empty-room frames the plate learns from; without them they are simply absent.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,7 +31,8 @@ from bodyplay.trackers.colorshirt.ik import PatchAnchors, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraState, CameraView
 
-__all__ = ["HEAD_PATCH", "floor_root_priors", "head_anchors", "head_from_cue", "join_anchors"]
+__all__ = ["HEAD_PATCH", "FloorReading", "floor_root_priors", "head_anchors", "head_from_cue",
+           "join_anchors"]
 
 HEAD_PATCH = NUM_PATCHES + 1
 """The ``patch`` id of a head anchor (the shirt's patches are 1..20)."""
@@ -45,9 +47,25 @@ _NO_ANCHORS = PatchAnchors(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0, 
 _HEAD_TOP = NODE_NAMES.index("head_top")
 
 
+@dataclass(frozen=True)
+class FloorReading:
+    """What the feet told about the root's depth in one frame.
+
+    ``priors``: the root-depth prior (none, or one for the lone camera); ``stagger``:
+    how far apart the two feet's floor points lie along that camera's axis (metres;
+    None unless both feet were found: the other may be hidden behind, or too far
+    above the lowest to count as a foot). A staggered stance makes the prior
+    unreliable: nothing in one image says which foot bears the weight, and the
+    pelvis can sit above either.
+    """
+
+    priors: tuple[RootPrior, ...] = ()
+    stagger: float | None = None
+
+
 def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
                       views: Sequence[CameraView], options: ColorShirtOptions
-                      ) -> tuple[RootPrior, ...]:
+                      ) -> FloorReading:
     """Root-depth prior of a lone camera that sees where the feet meet the floor.
 
     Two cameras that see the shirt triangulate its depth better than the feet tell
@@ -55,14 +73,15 @@ def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
     only serves a frame that one camera sees.
     """
     if len(views) != 1 or not options.floor_cue:
-        return ()
+        return FloorReading()
     cam = cameras[views[0].index]
     depths = [z for f in states[views[0].index].floor.feet()
               if (z := floor_depth(cam, f)) is not None]
     if not depths:
-        return ()
-    return (RootPrior.camera_depth(cam, float(np.mean(depths)) + options.floor_offset,
-                                   options.floor_std),)
+        return FloorReading()
+    prior = RootPrior.camera_depth(cam, float(np.mean(depths)) + options.floor_offset,
+                                   options.floor_std)
+    return FloorReading((prior,), max(depths) - min(depths) if len(depths) > 1 else None)
 
 
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],

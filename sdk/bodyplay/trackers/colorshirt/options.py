@@ -71,6 +71,13 @@ class ColorShirtOptions:
       mean residual is within ``arm_tolerance`` (a fraction) of the best wins: an
       arm too long still reprojects well by leaning in depth (one camera cannot see
       the lean at all), an arm too short cannot reach the observed sleeves.
+      With one camera, a start-up frame counts towards the preset only when the
+      floor cue found the feet no further apart in depth than
+      ``body_choice_max_stagger`` (m): one view cannot tell a small person near
+      from a tall one far, the feet are its only measure of distance, and in a
+      staggered stance they do not say where the pelvis is. After twice
+      ``body_selection_frames`` frames that do not count, the reference preset
+      ``m`` is kept (``inf``: every frame counts).
     * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
       from where the feet meet the floor (beyond the paper; needs a background
       plate, learned on empty-room frames before the shirt first appears);
@@ -134,6 +141,7 @@ class ColorShirtOptions:
     body_selection_frames: int = 20
     arm_selection_frames: int = 10
     arm_tolerance: float = 0.05
+    body_choice_max_stagger: float = 0.15
     floor_cue: bool = True
     floor_offset: float = 0.02
     floor_std: float = 0.05
@@ -214,6 +222,9 @@ class ColorShirtOptions:
         if not 1 <= self.arm_shortlist <= 200:
             raise ConfigError("arm_shortlist must be between 1 and 200 candidates per arm "
                               "(default 24)")
+        if not self.body_choice_max_stagger > 0.0:  # NaN fails too
+            raise ConfigError("body_choice_max_stagger must be a positive distance in metres "
+                              "(default 0.15; inf lets every one-camera frame judge the body)")
         if not (np.isfinite(self.arm_depth_pull) and 0.0 <= self.arm_depth_pull <= 10.0):
             raise ConfigError("arm_depth_pull must be within 0 (no pull towards the blend's "
                               "arms) and 10 (default 0.01)")

@@ -34,6 +34,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError, TimestampError
 from bodyplay.trackers.base import TrackerCapabilities, TrackResult, lost_result
+from bodyplay.trackers.colorshirt.anchors import Observed, patch_anchors
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
     BodyModel,
@@ -43,6 +44,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
+    FloorReading,
     floor_root_priors,
     head_anchors,
     join_anchors,
@@ -63,7 +65,6 @@ from bodyplay.trackers.colorshirt.prediction import (
 from bodyplay.trackers.colorshirt.report import pose_result
 from bodyplay.trackers.colorshirt.views import (
     WHITE_ID,
-    WHITE_PATCHES,
     CameraState,
     CameraView,
     classify_camera,
@@ -160,6 +161,7 @@ class ColorShirtTracker:
         self._last_t: float | None = None
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
+        self._floor = FloorReading()
         self._root_priors: tuple[RootPrior, ...] = ()
         """This frame's priors on the root's depth (from the feet on the floor)."""
         self._selection: BodySelection | None = None
@@ -274,42 +276,13 @@ class ColorShirtTracker:
 
     # ---- pose estimation -------------------------------------------------------------
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
-                 rendered: list[RenderedPose], observed: list[tuple[NDArray[np.int64],
-                                                                   NDArray[np.float64]]],
-                 ) -> PatchAnchors:
+                 rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
         """Anchors for the patches seen both in the render and in the image, all cameras."""
-        o = self.options
-        nodes, locals_, cams, targets, sigmas, pids = [], [], [], [], [], []
-        for view, rend, (counts, cents) in zip(views, rendered, observed, strict=True):
-            cam = self.cameras[view.index]
-            min_px = max(3, int(o.min_patch_fraction * view.ids.size))
-            pats = np.nonzero((rend.stats.count >= min_px) & (counts >= min_px))[0]
-            pats = pats[pats > 0]
-            if not len(pats):
-                continue
-            world = self.renderer.anchor_world(rend, cam, view.window, pats)
-            node = self.renderer.patch_node[pats]
-            nodes.append(node)
-            locals_.append(self.solver.attach(q, node, world))
-            cams.append(np.full(len(pats), view.index))
-            targets.append(view.window.to_image(cents[pats]))
-            # constraint std: the trained relative std times the shirt size in image px,
-            # inflated for small (partly hidden) patches
-            size_px = view.shirt_scale / view.window.scale
-            sig = self.prior.centroid * size_px * np.sqrt(
-                np.maximum(1.0, rend.stats.count[pats].max() / (4.0 * counts[pats]))
-            )
-            sigmas.append(np.where(WHITE_PATCHES[pats], sig * o.white_std_scale, sig))
-            pids.append(pats)
-        if not nodes:
-            z = np.zeros(0, np.int64)
-            return PatchAnchors(z, np.zeros((0, 3)), z, np.zeros((0, 2)), np.zeros(0), z)
-        return PatchAnchors(np.concatenate(nodes), np.concatenate(locals_),
-                            np.concatenate(cams).astype(np.int64), np.concatenate(targets),
-                            np.concatenate(sigmas), np.concatenate(pids).astype(np.int64))
+        return patch_anchors(self.renderer, self.solver, self.cameras, q, views, rendered,
+                             observed, self.prior.centroid, self.options)
 
     def _observed_by_color(self, view: CameraView, rend: RenderedPose
-                           ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+                           ) -> Observed:
         """Step-2 correspondences: each color's pixels go to its larger rendered patch."""
         lut = np.zeros(NUM_COLORS + 1, np.uint8)
         for k, pats in enumerate(self.renderer.color_patches):
@@ -319,7 +292,7 @@ class ColorShirtTracker:
         return st.count, st.centroid
 
     def _refine_classification(self, view: CameraView, rend: RenderedPose
-                               ) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+                               ) -> Observed:
         """Step 3: reclassify with the pose prior, then split colors into patches."""
         o = self.options
         C = prior_penalty_slope(o.prior_strength, view.shirt_scale, view.W, o.prior_gain_power)
@@ -383,7 +356,8 @@ class ColorShirtTracker:
                 self.diagnostics["light_change"] = M
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
-        self._root_priors = floor_root_priors(self.cameras, self._cams, views, self.options)
+        self._floor = floor_root_priors(self.cameras, self._cams, views, self.options)
+        self._root_priors = self._floor.priors
         self.diagnostics["floor_priors"] = self._root_priors
         if not views:
             self._prev = None
@@ -444,6 +418,10 @@ class ColorShirtTracker:
         above all with one camera, say little about size), and while arm lengths are
         compared the best so far (the lengths differ by a few centimetres, and the
         preset's own is the longest); on the deciding frame it is the chosen body's.
+
+        With one camera the presets are judged only on frames where the feet tell
+        the distance (``body_choice_max_stagger``), without the arm search (its arms
+        fit every size about equally); the reported pose is then refitted with it.
         """
         sel = self._selection
         assert sel is not None
@@ -463,7 +441,12 @@ class ColorShirtTracker:
             sel.previous[name] = fit.q
             fits[name] = (fit, self.diagnostics)
             residuals[name] = fit.residual
-        sel.add(residuals)
+        stagger, limit = self._floor.stagger, self.options.body_choice_max_stagger
+        if (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
+                and (stagger is None or stagger > limit)):
+            sel.skip(self._reference)  # one view, no measure of distance: size unknown
+        else:
+            sel.add(residuals)
         if sel.chosen is not None:
             best = sel.chosen
         elif self._arm_stage_started or self._reference not in self._bodies:
@@ -475,6 +458,15 @@ class ColorShirtTracker:
             self.diagnostics = {}
             return None
         fit, self.diagnostics = fits[best]
+        o = self.options
+        if len(views) == 1 and o.arm_search and o.arm_search_one_camera:
+            # the candidates are judged without the arm search; the pose reported
+            # while they are is the best one has
+            report = self._estimate([copy.copy(v) for v in views], sel.previous.get(best),
+                                    search_one=True)
+            if self._plausible(report.q, report.views):
+                return report
+            self.diagnostics = fits[best][1]
         return fit
 
     def _start_arm_selection(self) -> None:
@@ -524,8 +516,8 @@ class ColorShirtTracker:
         q_b = self.diagnostics.get("q_blend")
         return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
 
-    def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None
-                  ) -> _Fit:
+    def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
+                  search_one: bool | None = None) -> _Fit:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame."""
         o = self.options
         if len(views) > 1 and o.multiview_lookup:
@@ -539,7 +531,9 @@ class ColorShirtTracker:
         q_b = self.solver.solve_global(q_b, anchors, root_priors=self._root_priors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
-        if o.arm_search and (not one or (o.arm_search_one_camera and self._body_settled)):
+        if search_one is None:
+            search_one = self._body_settled
+        if o.arm_search and (not one or (o.arm_search_one_camera and search_one)):
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
                 o.arm_tau, o.arm_temperature, o.arm_shortlist,
