@@ -198,6 +198,7 @@ def test_one_camera_without_a_floor_cue_keeps_the_reference_body(db) -> None:  #
     for fs in frames[:5]:
         tr.process(fs)
     assert tr._selection is not None and tr._selection.chosen is None
+    assert len(tr.diagnostics["arms"]) == 2  # type: ignore[arg-type]  # reported pose: searched
     means = tr.diagnostics["body_residuals"]
     assert isinstance(means, dict) and all(not np.isfinite(v) for v in means.values())
     tr.process(frames[5])

@@ -457,16 +457,17 @@ class ColorShirtTracker:
         if best not in fits:
             self.diagnostics = {}
             return None
-        fit, self.diagnostics = fits[best]
+        fit, judged = fits[best]
         o = self.options
         if len(views) == 1 and o.arm_search and o.arm_search_one_camera:
             # the candidates are judged without the arm search; the pose reported
             # while they are is the best one has
+            self.diagnostics = {}
             report = self._estimate([copy.copy(v) for v in views], sel.previous.get(best),
                                     search_one=True)
             if self._plausible(report.q, report.views):
                 return report
-            self.diagnostics = fits[best][1]
+        self.diagnostics = judged
         return fit
 
     def _start_arm_selection(self) -> None:
