@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -209,6 +210,49 @@ def test_plate_mask_leaves_the_room_beside_the_shirt_unclassified_after_a_lead_i
     # MOG2 keeps the player's last box as foreground: most of the crop (0.77 here);
     # the plate keeps only the player, so the room around the shirt is out (0.33)
     assert share[False] > 0.6 and share[True] < 0.5 * share[False], share
+
+
+def _recording(fn: Callable[..., object], seen: list[object]) -> Callable[..., object]:
+    """``fn``, appending each of its results to ``seen``."""
+    def wrapper(*args: object) -> object:
+        seen.append(fn(*args))
+        return seen[-1]
+    return wrapper
+
+
+def test_one_camera_masks_with_the_plate_alone_where_two_need_both_masks_to_agree(
+    tmp_path: Path, lead_in_capture: Path
+) -> None:
+    from bodyplay.capture.frames import FrameSet
+    from bodyplay.capture.sources import open_source
+    from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
+
+    smaller = {}
+    for alone in (1, 0):
+        opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
+                                 body="m_slim", arm_selection_frames=0,
+                                 plate_mask_alone_cameras=alone)
+        src = open_source(lead_in_capture)
+        assert src.cameras is not None
+        tracker = create_colorshirt_tracker(opts, src.cameras[:1])
+        floor = tracker._cams[0].floor
+        seen: list[object] = []
+        original = floor.crop_foreground
+        floor.crop_foreground = _recording(original, seen)  # type: ignore[method-assign]
+        smaller[alone] = 0
+        with src:
+            for fs in src:
+                if not tracker.process(FrameSet(fs.frames[:1], fs.t, fs.index)).found:
+                    continue
+                view = tracker.diagnostics["observed"][0][0]  # type: ignore[index]
+                plate = seen[-1]
+                assert isinstance(plate, np.ndarray) and view.mask is not None
+                if alone:
+                    assert np.array_equal(view.mask, plate)
+                else:
+                    assert not np.any(view.mask & ~plate)  # both masks: a subset
+                smaller[alone] += int(view.mask.sum() < plate.sum())
+    assert smaller[1] == 0 and smaller[0] > 0  # MOG2 does absorb part of the player
 
 
 def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(

@@ -163,6 +163,7 @@ def test_color_distance_maps_measure_pixels_to_the_nearest_pixel_of_each_color()
                                           ("arm_tau", float("nan")),
                                           ("arm_temperature", -0.1), ("arm_shortlist", 0),
                                           ("arm_depth_pull", -0.01),
+                                          ("plate_mask_alone_cameras", -1),
                                           ("arm_depth_pull", float("inf"))])
 def test_options_reject_arm_search_settings_out_of_range(field: str, value: float) -> None:
     with pytest.raises(ConfigError, match=field):

@@ -106,7 +106,10 @@ class ColorShirtOptions:
       that differ from it are classified. MOG2's mask counts the player's last box
       as foreground (so a player who stands still does not fade), which leaves
       the background right next to the shirt unmasked; under dim light the
-      classifier took dark floor there for the dark sleeve colors.
+      classifier took dark floor there for the dark sleeve colors. With at most
+      ``plate_mask_alone_cameras`` cameras the plate's mask replaces MOG2's
+      (which then only narrows the search): MOG2 absorbs an arm held still once
+      one frame missed it, and with one camera no other view makes up for it.
     """
 
     adaptive_white_balance: bool = True
@@ -156,6 +159,7 @@ class ColorShirtOptions:
     arm_search_one_camera: bool = True
     arm_depth_pull: float = 0.01
     plate_mask: bool = True
+    plate_mask_alone_cameras: int = 1
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
@@ -225,6 +229,9 @@ class ColorShirtOptions:
         if not self.body_choice_max_stagger > 0.0:  # NaN fails too
             raise ConfigError("body_choice_max_stagger must be a positive distance in metres "
                               "(default 0.15; inf lets every one-camera frame judge the body)")
+        if not 0 <= self.plate_mask_alone_cameras <= 16:
+            raise ConfigError("plate_mask_alone_cameras must be between 0 (always both masks) "
+                              "and 16 (default 1: a one-camera rig masks with the plate alone)")
         if not (np.isfinite(self.arm_depth_pull) and 0.0 <= self.arm_depth_pull <= 10.0):
             raise ConfigError("arm_depth_pull must be within 0 (no pull towards the blend's "
                               "arms) and 10 (default 0.01)")

@@ -244,7 +244,9 @@ class ColorShirtTracker:
                                interpolation=cv2.INTER_NEAREST) > 0
         if plate and o.plate_mask:  # MOG2 has the player's last box as foreground
             pm = st.floor.crop_foreground((x0, y0, x1, y1), (cw, chh))
-            cmask = cmask if pm is None else pm if cmask is None else cmask & pm
+            if pm is not None:
+                alone = len(self.cameras) <= o.plate_mask_alone_cameras
+                cmask = pm if cmask is None or alone else cmask & pm
         window = CropWindow(float(x0), float(y0), float(cw) / (x1 - x0), cw, chh)
         # the paper's "supposedly foreground": masked pixels inside the located window
         fg = np.zeros((chh, cw), bool)
