@@ -165,8 +165,9 @@ def run(args: argparse.Namespace) -> int:
                                           "with a second of the empty room)"))
     if getattr(options, "arm_search", False) and found:
         print(f"arm search: arms chosen from the arm library in {arms} of the {found} frame "
-              "sets with a pose" + ("" if arms else " (it needs two or more cameras seeing "
-                                                    "the shirt)"))
+              "sets with a pose" + ("" if arms else " (with one camera it starts once the "
+                                                    "body is chosen, unless "
+                                                    "arm_search_one_camera=false)"))
     return 0
 
 

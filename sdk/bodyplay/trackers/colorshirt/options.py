@@ -88,10 +88,10 @@ class ColorShirtOptions:
       plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
       centre lies above the joint, ``head_std`` (m) the constraint's standard
       deviation.
-    * ``arm_search``: with two or more cameras seeing the shirt, each arm of the
-      placed blend is replaced by the arm configuration (of ``arm_library``, spread
-      over the database's arms) whose shirt points best match the classified pixels
-      in every camera, by a truncated chamfer distance (``arm_tau`` shirt sizes);
+    * ``arm_search``: each arm of the placed blend is replaced by the arm
+      configuration (of ``arm_library``, spread over the database's arms) whose
+      shirt points best match the classified pixels in every camera, by a
+      truncated chamfer distance (``arm_tau`` shirt sizes);
       the best few are blended with weights ``exp(-cost / arm_temperature)``
       (beyond the paper; see :mod:`.armsearch`). ``arm_shortlist``: how many
       candidates per arm the model-to-image cost passes on to the pairwise stage,
