@@ -436,7 +436,8 @@ class ColorShirtTracker:
             body = self._bodies[name]
             self._use(body)
             self.diagnostics = {}
-            fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name))
+            fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name),
+                                 search_one=False)
             if not self._plausible(fit.q, fit.views):
                 sel.previous[name] = None
                 continue
@@ -491,16 +492,6 @@ class ColorShirtTracker:
         for name in variants:
             self._selection.previous[name] = previous
 
-    @property
-    def _body_settled(self) -> bool:
-        """Whether the start-up's body and arm-length choices are over. One camera's
-        arm search waits for them: its arms fit every preset's size about equally, so
-        the choice got noisier (validation 10.42 cm with the search from the first
-        frame, 9.71 from the arm-length stage on, 9.49 after it)."""
-        sel = self._selection
-        return sel is None or (sel.chosen is not None and (
-            self._arm_stage_started or self.options.arm_selection_frames <= 0))
-
     def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
         """Whether an estimate can be reported: in front of every camera that saw the
         shirt, its chest inside that camera's crop, and not wildly far from the
@@ -520,8 +511,15 @@ class ColorShirtTracker:
         return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
 
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
-                  search_one: bool | None = None) -> _Fit:
-        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame."""
+                  search_one: bool = True) -> _Fit:
+        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
+
+        ``search_one``: whether a frame that one camera sees gets the arm search
+        (``arm_search_one_camera``). The start-up's candidates are judged without
+        it: its arms fit every preset's size about equally, and the choice got
+        noisier (validation 10.42 cm with the search from the first frame, 9.71
+        from the arm-length stage on, 9.49 after it).
+        """
         o = self.options
         if len(views) > 1 and o.multiview_lookup:
             q_b = self.placement.multiview_blend(views, self.skeleton)
@@ -534,8 +532,6 @@ class ColorShirtTracker:
         q_b = self.solver.solve_global(q_b, anchors, root_priors=self._root_priors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
-        if search_one is None:
-            search_one = self._body_settled
         if o.arm_search and (not one or (o.arm_search_one_camera and search_one)):
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
