@@ -214,3 +214,17 @@ def test_one_camera_without_a_floor_cue_keeps_the_reference_body(db) -> None:  #
 def test_body_choice_max_stagger_option_rejects_non_positive_values(value: float) -> None:
     with pytest.raises(ConfigError, match="body_choice_max_stagger"):
         ColorShirtOptions(body_choice_max_stagger=value)
+
+
+def test_arm_stage_compares_the_arm_scales_of_the_options(db) -> None:  # type: ignore[no-untyped-def]
+    cams = webcam_rig()
+    tr = create_colorshirt_tracker(
+        ColorShirtOptions(body="auto", body_selection_frames=2, arm_selection_frames=3,
+                          background_subtraction=False, arm_scales=(0.76, 0.8, 1.0)),
+        cams, database=db)
+    frames = _capture("m", 4, cams, arms=0.8)
+    for fs in frames[:3]:
+        tr.process(fs)
+    assert tr._arm_stage_started
+    chosen = tr._reference
+    assert list(tr._bodies) == [f"{chosen}*0.76", f"{chosen}*0.80", chosen]

@@ -193,3 +193,95 @@ def test_floor_reading_tells_how_far_apart_in_depth_the_feet_stand(
     assert (reading.stagger > ColorShirtOptions().body_choice_max_stagger) == staggered
     two = floor_root_priors((cam, cam), (state, state), (view, view), ColorShirtOptions())  # type: ignore[arg-type]
     assert two.priors == () and two.stagger is None  # two cameras see depth themselves
+
+
+def _depth_rig() -> Camera:
+    R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
+    return Camera.from_fov("cam0", 640, 480, 60.0, R, t)
+
+
+def _depth_of(cam: Camera, root: np.ndarray) -> float:
+    return float(cam.world_to_camera(root)[2])
+
+
+def test_depth_track_holds_the_depth_the_feet_told_while_they_are_unseen() -> None:
+    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
+    from bodyplay.trackers.colorshirt.ik import RootPrior
+
+    cam = _depth_rig()
+    track = RootDepthTrack(speed=0.25)
+    assert track.prior((cam,), 0, 0.0) is None  # nothing seen yet
+    root = np.array([0.0, 0.95, 0.2])
+    depth = _depth_of(cam, root)
+    floor = RootPrior.camera_depth(cam, depth, 0.05)
+    track.update((cam,), 0, 0.0, root, (floor,), None)
+    held = track.prior((cam,), 0, 0.1)
+    assert held is not None
+    assert held.target + cam.t[2] == pytest.approx(depth)
+    assert held.std == pytest.approx(np.hypot(0.05, 0.25 * 0.1))
+    later = track.prior((cam,), 0, 0.5)
+    assert later is not None and later.std > held.std  # it loosens with time
+    assert track.prior((cam,), 0, 1.5) is None  # and lapses after the horizon
+
+
+def test_depth_track_fuses_the_reading_with_the_held_depth() -> None:
+    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
+    from bodyplay.trackers.colorshirt.ik import RootPrior
+
+    cam = _depth_rig()
+    track = RootDepthTrack(speed=0.25)
+    root = np.array([0.0, 0.95, 0.2])
+    floor = RootPrior.camera_depth(cam, _depth_of(cam, root), 0.05)
+    track.update((cam,), 0, 0.0, root, (floor,), None)
+    held = track.prior((cam,), 0, 1 / 30)
+    assert held is not None
+    track.update((cam,), 0, 1 / 30, root, (floor,), held)
+    again = track.prior((cam,), 0, 1 / 30)
+    assert again is not None
+    assert again.std == pytest.approx(1.0 / np.sqrt(1 / 0.05**2 + 1 / held.std**2))
+
+
+def test_depth_track_without_a_reading_keeps_the_uncertainty_it_had() -> None:
+    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
+    from bodyplay.trackers.colorshirt.ik import RootPrior
+
+    cam = _depth_rig()
+    track = RootDepthTrack(speed=0.25)
+    root = np.array([0.0, 0.95, 0.2])
+    track.update((cam,), 0, 0.0, root, (), None)
+    assert track.prior((cam,), 0, 0.1) is None  # never a reading: nothing to hold
+    track.update((cam,), 0, 0.0, root, (RootPrior.camera_depth(cam, 3.0, 0.05),), None)
+    held = track.prior((cam,), 0, 0.2)
+    assert held is not None
+    moved = root + np.array([0.0, 0.0, 0.3])
+    track.update((cam,), 0, 0.2, moved, (), held)  # the feet out of view
+    after = track.prior((cam,), 0, 0.2)
+    assert after is not None and after.std == pytest.approx(held.std)
+    assert after.target + cam.t[2] == pytest.approx(_depth_of(cam, moved))
+
+
+def test_depth_track_ends_when_two_cameras_or_another_camera_see_the_shirt() -> None:
+    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
+    from bodyplay.trackers.colorshirt.ik import RootPrior
+
+    cam = _depth_rig()
+    root = np.array([0.0, 0.95, 0.2])
+    floor = RootPrior.camera_depth(cam, _depth_of(cam, root), 0.05)
+    track = RootDepthTrack(speed=0.25)
+    track.update((cam, cam), 0, 0.0, root, (floor,), None)
+    assert track.prior((cam, cam), 1, 0.1) is None  # another camera: its own depth
+    track.update((cam, cam), None, 0.1, root, (), None)
+    assert track.prior((cam, cam), 0, 0.2) is None  # two cameras triangulate
+    off = RootDepthTrack(speed=0.0)
+    off.update((cam,), 0, 0.0, root, (floor,), None)
+    assert off.prior((cam,), 0, 0.1) is None
+
+
+def test_a_foot_split_by_the_threshold_still_reaches_down_to_its_toes() -> None:
+    room = _room()
+    player = _stance(room, 420, 420)
+    x0, _, x1, _ = SHIRT
+    player[398:402, x0 + 6: x0 + 32] = room[398:402, x0 + 6: x0 + 32]  # instep = floor
+    feet = _feet(_learned(room), player)
+    assert len(feet) == 2
+    assert all(f.v >= 416 for f in feet)  # the toes below the gap, not the instep

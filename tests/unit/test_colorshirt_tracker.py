@@ -246,3 +246,17 @@ def test_white_patch_constraints_count_with_white_std_scale_times_the_std(db) ->
 def test_options_reject_a_white_std_scale_below_one() -> None:
     with pytest.raises(ConfigError, match="white_std_scale"):
         ColorShirtOptions(white_std_scale=0.5)
+
+
+def test_options_reject_arm_scales_without_the_presets_own_arms() -> None:
+    assert ColorShirtOptions(arm_scales=(0.76, 0.8, 1.0)).arm_scales == (0.76, 0.8, 1.0)
+    with pytest.raises(ConfigError, match="arm_scales"):
+        ColorShirtOptions(arm_scales=(0.8, 0.9))
+    with pytest.raises(ConfigError, match="arm_scales"):
+        ColorShirtOptions(arm_scales=(0.2, 1.0))
+
+
+def test_options_reject_a_negative_depth_track_speed() -> None:
+    with pytest.raises(ConfigError, match="depth_track_speed"):
+        ColorShirtOptions(depth_track_speed=-1.0)
+    assert ColorShirtOptions(depth_track_speed=0.0).depth_track_speed == 0.0  # off

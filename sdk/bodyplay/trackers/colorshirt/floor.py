@@ -34,6 +34,13 @@ __all__ = [
 
 Box = tuple[int, int, int, int]
 
+_JOIN = np.ones((5, 5), np.uint8)
+"""The blob is labelled on the mask dilated by this (plate pixels), so that the
+parts of a foot that the plate's threshold splits still count as the body's: a
+dark foot's instep matches a gray floor, the toes below it were an island of
+their own, and the foot's lowest pixel came out at the instep, 10-20 px too
+high (20-30 cm too far). The lowest points are read on the undilated mask."""
+
 
 class BackgroundPlate:
     """The empty room as seen by one camera, at reduced resolution (OpenCV running mean).
@@ -171,12 +178,12 @@ def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int) -> tuple[Feet
     bw = x1 - x0
     rx0, rx1 = max(0, x0 - bw), min(w, x1 + bw)
     band = np.ascontiguousarray(fg[y0:, rx0:rx1]).astype(np.uint8)
-    _, labels = cv2.connectedComponents(band, connectivity=8)
+    _, labels = cv2.connectedComponents(cv2.dilate(band, _JOIN), connectivity=8)
     inside = labels[: y1 - y0, x0 - rx0: x1 - rx0]
-    ids = np.unique(inside[inside > 0])
+    ids = np.unique(inside[(inside > 0) & (band[: y1 - y0, x0 - rx0: x1 - rx0] > 0)])
     if not len(ids):
         return ()
-    body = np.isin(labels, ids)
+    body = np.isin(labels, ids) & (band > 0)
     rows = np.nonzero(body.sum(axis=1) >= 2)[0]
     if not len(rows):
         return ()

@@ -11,6 +11,7 @@ import numpy as np
 
 from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.errors import ConfigError
+from bodyplay.trackers.colorshirt.bodyselect import ARM_SCALES
 from bodyplay.trackers.colorshirt.locate import LocateOptions
 
 __all__ = ["ColorShirtOptions", "options_with_overrides"]
@@ -144,10 +145,12 @@ class ColorShirtOptions:
     body_selection_frames: int = 20
     arm_selection_frames: int = 10
     arm_tolerance: float = 0.05
+    arm_scales: tuple[float, ...] = ARM_SCALES
     body_choice_max_stagger: float = 0.15
     floor_cue: bool = True
     floor_offset: float = 0.02
     floor_std: float = 0.05
+    depth_track_speed: float = 0.25
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
@@ -206,11 +209,18 @@ class ColorShirtOptions:
         if not (np.isfinite(self.white_std_scale) and 1.0 <= self.white_std_scale <= 20.0):
             raise ConfigError("white_std_scale must be within 1 (white patches count like "
                               "the others, as in the paper) and 20 (default 3)")
+        scales = tuple(self.arm_scales)
+        if (not scales or not all(np.isfinite(a) and 0.5 <= a <= 1.5 for a in scales)
+                or not any(abs(a - 1.0) < 1e-9 for a in scales)):
+            raise ConfigError("arm_scales must be arm-length factors within 0.5..1.5 that "
+                              f"include 1 (the preset's own arms), got {self.arm_scales}")
         if not (np.isfinite(self.arm_tolerance) and 0.0 <= self.arm_tolerance <= 0.5):
             raise ConfigError("arm_tolerance must be within 0 (the best residual wins) and "
                               "0.5 (default 0.05)")
         if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
             raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
+        if not (np.isfinite(self.depth_track_speed) and 0.0 <= self.depth_track_speed <= 10.0):
+            raise ConfigError("depth_track_speed must be within 0 (off) and 10 m/s")
         if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
             raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
         if not (np.isfinite(self.head_offset) and abs(self.head_offset) <= 0.2):

@@ -45,6 +45,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
     FloorReading,
+    RootDepthTrack,
     floor_root_priors,
     head_anchors,
     join_anchors,
@@ -162,6 +163,7 @@ class ColorShirtTracker:
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
         self._floor = FloorReading()
+        self._depth = RootDepthTrack(self.options.depth_track_speed)
         self._root_priors: tuple[RootPrior, ...] = ()
         """This frame's priors on the root's depth (from the feet on the floor)."""
         self._selection: BodySelection | None = None
@@ -359,7 +361,9 @@ class ColorShirtTracker:
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         self._floor = floor_root_priors(self.cameras, self._cams, views, self.options)
-        self._root_priors = self._floor.priors
+        lone = views[0].index if len(views) == 1 else None
+        held = None if lone is None else self._depth.prior(self.cameras, lone, frames.t)
+        self._root_priors = self._floor.priors + ((held,) if held is not None else ())
         self.diagnostics["floor_priors"] = self._root_priors
         if not views:
             self._prev = None
@@ -392,6 +396,7 @@ class ColorShirtTracker:
                 self._refit_white_balance(v, r)
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
+        self._depth.update(self.cameras, lone, frames.t, fit.q[:3], self._floor.priors, held)
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
     def _within_reach(self, t: float, q: NDArray[np.float64]) -> bool:
@@ -483,7 +488,8 @@ class ColorShirtTracker:
         if n <= 0 or sel is None or sel.chosen is None or self._arm_stage_started:
             return
         self._arm_stage_started = True
-        variants = arm_variants(self._bodies[sel.chosen], self.cameras)
+        variants = arm_variants(self._bodies[sel.chosen], self.cameras,
+                                tuple(self.options.arm_scales))
         previous = sel.previous.get(sel.chosen)
         self._reference = sel.chosen
         self._bodies = variants
@@ -582,7 +588,7 @@ class ColorShirtTracker:
         heads = cast(list[tuple[int, HeadPoint]], self.diagnostics.get("heads", []))
         extras: dict[str, object] = {
             "feet": [(v.index, self._cams[v.index].floor.last_feet) for v in views],
-            "floor_cue": bool(self._root_priors),
+            "floor_cue": bool(self._floor.priors),
             "arms": self.diagnostics.get("arms", [])}
         return pose_result(frames, self.skeleton, q, seen, views, self.cameras, heads,
                            self.options, 1000.0 * (time.perf_counter() - t0), extras)
