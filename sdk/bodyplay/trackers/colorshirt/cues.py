@@ -5,9 +5,9 @@ empty-room frames the plate learns from; without them they are simply absent.
 
 * :func:`floor_root_priors`: with one camera, where the feet meet the floor fixes
   the root's depth (:mod:`.floor`).
-* :class:`RootDepthTrack`: with one camera, the root's depth followed from frame
-  to frame (a one-dimensional Kalman filter), so that frames whose feet are out
-  of view keep the depth the feet last told.
+* :class:`RootDepthTrack`: with one camera, the reported root's depth carried to
+  the next frame as one more prior (loosening with time), so that frames whose
+  feet are out of view do not drift with the shirt's apparent size.
 * :func:`head_anchors`: in every camera, the head found above the collar
   (:mod:`.head`) becomes a 2-D constraint on the head joint in the IK, which the
   shirt's patches leave to the database blend.
@@ -95,7 +95,7 @@ class RootDepthTrack:
 
     def prior(self, cameras: Sequence[Camera], index: int, t: float) -> RootPrior | None:
         """The held root depth in camera ``index`` at time ``t`` (None: nothing held)."""
-        if self.speed <= 0 or self.camera != index or not t - self.t <= self.horizon:
+        if self.camera != index or not t - self.t <= self.horizon:
             return None
         std = float(np.hypot(self.std, self.speed * (t - self.t)))
         return RootPrior.camera_depth(cameras[index], self.depth, std)
@@ -115,9 +115,8 @@ class RootDepthTrack:
         if info <= 0.0:
             self.camera = None  # no floor reading yet: nothing to hold on to
             return
-        cam = cameras[index]
         self.camera, self.t = index, t
-        self.depth = float(cam.R[2] @ root + cam.t[2])
+        self.depth = float(cameras[index].world_to_camera(root)[2])
         self.std = float(1.0 / np.sqrt(info))
 
 

@@ -165,7 +165,8 @@ class ColorShirtTracker:
         self._floor = FloorReading()
         self._depth = RootDepthTrack(self.options.depth_track_speed)
         self._root_priors: tuple[RootPrior, ...] = ()
-        """This frame's priors on the root's depth (from the feet on the floor)."""
+        """This frame's priors on the root's depth (the feet on the floor, and the
+        depth carried from the last frame by ``_depth``)."""
         self._selection: BodySelection | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
