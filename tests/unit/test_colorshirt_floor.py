@@ -94,6 +94,24 @@ def test_a_player_standing_still_does_not_fade_into_the_plate() -> None:
     assert len(_feet(plate, frame)) == 2
 
 
+def test_the_plate_behind_the_player_follows_a_lamp_switched_off_while_tracking() -> None:
+    room = _room()
+    plate = _learned(room)
+    frame = _person(room, feet_v=410, gain=0.55)  # the room darkens while the player is seen
+    small = plate.small(frame)
+    region = tuple(c // 2 for c in person_region(SHIRT, 640, 480))
+    for _ in range(200):  # the surroundings have long since followed the new light
+        plate.update_around(small, region)  # type: ignore[arg-type]
+    fg = plate.foreground(small, region)  # type: ignore[arg-type]
+    assert fg is not None
+    x0, y0, x1, y1 = region
+    room_behind = fg[y0:y1, x0:x1].copy()
+    sx0, sy0, sx1, sy1 = (c // 2 for c in SHIRT)
+    room_behind[sy0 - y0:, sx0 - x0: sx1 - x0] = False  # the player's shirt and legs
+    assert room_behind.mean() < 0.02
+    assert len(_feet(plate, frame)) == 2
+
+
 def test_no_feet_when_the_legs_leave_the_image_or_the_plate_does_not_fit() -> None:
     room = _room()
     plate = _learned(room)

@@ -97,13 +97,44 @@ class BackgroundPlate:
         cv2.accumulateWeighted(small, self._mean, alpha)
 
     def update_around(self, small: NDArray[np.float32], person: Box) -> None:
-        """A tracked frame: pixels outside ``person`` (plate pixels) follow slowly."""
+        """A tracked frame: the whole plate follows the light's global change (one
+        gain per channel, measured outside ``person``), then pixels outside
+        ``person`` (plate pixels) follow the frame slowly.
+
+        Scaling the whole plate keeps the part behind the person in step with the
+        part around it: when only the surroundings followed a lamp switched off,
+        the gain measured there drifted back to 1 within a few dozen frames while
+        the plate behind the person still showed the room in the old light, and
+        the whole region turned foreground.
+        """
         if self._mean is None:
             return
+        gain, _ = self._light_change(small, person)
+        if np.any(np.abs(gain - 1.0) > 1e-3):
+            self._mean *= gain
         keep = np.ones(small.shape[:2], np.uint8)
         x0, y0, x1, y1 = person
         keep[max(y0, 0): max(y1, 0), max(x0, 0): max(x1, 0)] = 0
         cv2.accumulateWeighted(small, self._mean, self.rate, mask=keep)
+
+    def _light_change(self, small: NDArray[np.float32],
+                      person: Box) -> tuple[NDArray[np.float32], float]:
+        """The gain per channel from plate to ``small`` outside ``person``, and the
+        frame's summed R + G + B level there."""
+        assert self._mean is not None
+        # measured on every 4th pixel of every 4th row: plenty for a mean
+        step = 4
+        outside = np.ones((-(-small.shape[0] // step), -(-small.shape[1] // step)), np.uint8)
+        x0, y0, x1, y1 = person
+        outside[max(y0, 0) // step: -(-max(y1, 0) // step),
+                max(x0, 0) // step: -(-max(x1, 0) // step)] = 0
+        plate = self._mean
+        if int(np.count_nonzero(outside)) > 50:
+            f = np.array(cv2.mean(small[::step, ::step], mask=outside)[:3])
+            p = np.array(cv2.mean(plate[::step, ::step], mask=outside)[:3])
+            gain = np.clip(f / np.maximum(p, 1.0), 0.05, 20.0).astype(np.float32)
+            return gain, float(f.sum())
+        return np.ones(3, np.float32), float(np.sum(cv2.mean(plate[::step, ::step])[:3]))
 
     def foreground(self, small: NDArray[np.float32], person: Box) -> NDArray[np.bool_] | None:
         """Foreground mask of ``small`` within ``person`` (False elsewhere).
@@ -116,21 +147,9 @@ class BackgroundPlate:
         """
         if not self.ready or self._mean is None:
             return None
-        # the gain is measured on every 4th pixel of every 4th row: plenty for a mean
-        step = 4
-        outside = np.ones((-(-small.shape[0] // step), -(-small.shape[1] // step)), np.uint8)
+        gain, level = self._light_change(small, person)
         x0, y0, x1, y1 = person
-        outside[max(y0, 0) // step: -(-max(y1, 0) // step),
-                max(x0, 0) // step: -(-max(x1, 0) // step)] = 0
         plate = self._mean
-        if int(np.count_nonzero(outside)) > 50:
-            f = np.array(cv2.mean(small[::step, ::step], mask=outside)[:3])
-            p = np.array(cv2.mean(plate[::step, ::step], mask=outside)[:3])
-            gain = np.clip(f / np.maximum(p, 1.0), 0.05, 20.0).astype(np.float32)
-            level = float(f.sum())
-        else:
-            gain = np.ones(3, np.float32)
-            level = float(np.sum(cv2.mean(plate[::step, ::step])[:3]))
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
         # only the person's region is compared (the rest is plate by assumption)
         ys = slice(max(y0, 0), max(y1, 0))
