@@ -84,6 +84,20 @@ def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: 
     assert means["xs"] < means["xl"] < means["xxl"]
 
 
+def test_before_the_choice_the_pose_comes_from_the_best_body_so_far(db) -> None:  # type: ignore[no-untyped-def]
+    cams = webcam_rig()
+    tr = create_colorshirt_tracker(
+        ColorShirtOptions(body="auto", body_selection_frames=6, arm_selection_frames=0,
+                          background_subtraction=False),
+        cams, database=db)
+    for fs in _capture("xs", 3, cams):
+        assert tr.process(fs).found
+    assert tr._selection is not None and tr._selection.chosen is None
+    means = tr.diagnostics["body_residuals"]
+    assert isinstance(means, dict)
+    assert tr.body_name == min(means, key=means.__getitem__) != "m"
+
+
 def test_body_option_rejects_unknown_preset_names() -> None:
     with pytest.raises(ConfigError, match="unknown body preset"):
         ColorShirtOptions(body="giant")
