@@ -28,6 +28,21 @@ def test_arm_cut_off_by_a_white_shoulder_cap_stays_with_the_shirt() -> None:
     assert np.count_nonzero(out == WHITE_ID) > 0
 
 
+def test_arm_joined_to_the_shirt_only_through_a_wide_white_cap_is_kept() -> None:
+    # the gap (12 px) is wider than the attach reach (5 px) and the arm is 12% of
+    # the torso: only the white cap ties it to the shirt
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[18:30, 22:40] = WHITE_ID          # a wide white shoulder cap
+    ids[30:46, 22:28] = CYAN              # upper arm, 12 px left of the torso
+    ids[46:62, 22:28] = PURPLE            # forearm
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert np.count_nonzero(out == CYAN) == np.count_nonzero(ids == CYAN)
+    assert np.count_nonzero(out == PURPLE) == np.count_nonzero(ids == PURPLE)
+    ids[18:30, 22:40] = 0                 # without the cap it is a stray blob
+    assert not np.any(clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1) == CYAN)
+
+
 def test_arm_beside_the_body_was_dropped_without_the_attach_rule() -> None:
     ids = np.zeros((100, 120), np.uint8)
     _torso(ids)

@@ -98,7 +98,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     of its area) or within ``attach_fraction`` of the shirt's extent of it: an arm
     held beside the body is separated from the torso by its shoulder cap, and
     where that cap is white (which is not a blob color) the arm is a small blob of
-    its own that must not be dropped. Next to the shirt a one-colored blob is kept
+    its own that must not be dropped; such a blob in two sleeve colors is also kept
+    wherever white joins it to the shirt (a hanging arm whose cap is wider than
+    the reach: at 12-15% of the shirt's area it came and went from frame to frame,
+    and the arm with it). Next to the shirt a one-colored blob is kept
     only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
     colors it is more likely the face or a hand than a piece of shirt. White,
     which walls and mortar also match, is kept only next to the kept blobs.
@@ -122,13 +125,19 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     ys, xs = np.nonzero(core * (labels == main))
     extent = max(np.ptp(xs), np.ptp(ys))
     keep = valid & (area >= blob_fraction * area[main])
+    sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
     if reach > 0:
         main_mask = (labels == main).astype(np.uint8)
         around = cv2.dilate(main_mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)) > 0
         touching = np.bincount(labels[around & sel], minlength=n) > 0
-        sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
         keep |= touching & (valid | sleeve)
+    # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
+    _, bridged = cv2.connectedComponents(grown | cv2.dilate(white, np.ones((3, 3), np.uint8)),
+                                         connectivity=8)
+    shirt = np.bincount(bridged[labels == main]).argmax()
+    joined = np.bincount(labels[(bridged == shirt) & sel], minlength=n) > 0
+    keep |= joined & valid & sleeve
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
     near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
