@@ -144,7 +144,7 @@ class ColorShirtOptions:
     body: str = "auto"
     body_selection_frames: int = 20
     arm_selection_frames: int = 10
-    arm_tolerance: float = 0.05
+    arm_tolerance: float = 0.1
     arm_scales: tuple[float, ...] = ARM_SCALES
     body_choice_max_stagger: float = 0.15
     floor_cue: bool = True
