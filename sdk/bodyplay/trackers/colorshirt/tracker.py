@@ -41,6 +41,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
     BodySelection,
     arm_variants,
     reprojection_residual,
+    upright_head_height,
 )
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
@@ -48,6 +49,7 @@ from bodyplay.trackers.colorshirt.cues import (
     RootDepthTrack,
     floor_root_priors,
     head_anchors,
+    head_height,
     join_anchors,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
@@ -172,8 +174,11 @@ class ColorShirtTracker:
         self._bodies = dict(self._presets)
         self._reference = "m"
         if self._bodies:
-            self._selection = BodySelection(tuple(self._bodies),
-                                            self.options.body_selection_frames)
+            self._selection = BodySelection(
+                tuple(self._bodies), self.options.body_selection_frames,
+                heights={n: upright_head_height(b.skeleton, self.options.head_offset)
+                         for n, b in self._bodies.items()},
+                stature_tolerance=self.options.stature_tolerance)
             self._use(self._bodies.get(self._reference, next(iter(self._bodies.values()))))
         self.diagnostics: dict[str, object] = {}
         """Intermediate results of the last frame (blended pose, observed centroids),
@@ -457,6 +462,8 @@ class ColorShirtTracker:
                 and (stagger is None or stagger > limit)):
             sel.skip(self._reference)  # one view, no measure of distance: size unknown
         else:
+            if len(views) == 1 and fits:
+                self._read_stature(views[0].index, min(fits.values(), key=lambda f: f[0].residual))
             sel.add(residuals)
         if sel.chosen is not None:
             best = sel.chosen
@@ -480,6 +487,17 @@ class ColorShirtTracker:
                 return report
         self.diagnostics = judged
         return fit
+
+    def _read_stature(self, index: int, fit: tuple[_Fit, dict[str, object]]) -> None:
+        """Record the lone camera's reading of the player's head height, from the head
+        the best-fitting candidate found and the feet this frame."""
+        assert self._selection is not None
+        heads = cast(list[tuple[int, HeadPoint]], fit[1].get("heads", []))
+        feet = self._cams[index].floor.last_feet
+        if heads and feet:
+            h = head_height(self.cameras[index], feet, heads[0][1])
+            if h is not None:
+                self._selection.add_stature(h)
 
     def _start_arm_selection(self) -> None:
         """Second start-up stage: once the preset is chosen, its arm-length variants

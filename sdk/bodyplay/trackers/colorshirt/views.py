@@ -133,8 +133,8 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
         touching = np.bincount(labels[around & sel], minlength=n) > 0
         keep |= touching & (valid | sleeve)
     # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
-    _, bridged = cv2.connectedComponents(grown | cv2.dilate(white, np.ones((3, 3), np.uint8)),
-                                         connectivity=8)
+    bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
+    _, bridged = cv2.connectedComponents(bridge, connectivity=8)
     shirt = np.bincount(bridged[labels == main]).argmax()
     joined = np.bincount(labels[(bridged == shirt) & sel], minlength=n) > 0
     keep |= joined & valid & sleeve
