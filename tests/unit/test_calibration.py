@@ -131,3 +131,19 @@ def test_calibrate_cli_writes_calib_json(
     assert got.name == "webcam" and np.linalg.norm(got.center - cam.center) < 0.02
     assert main(["calibrate", "--images", str(tmp_path / "none*.png"), "--board", "7x4",
                  "--square", "0.06", "--out", str(out)]) == 2
+
+
+def test_undistort_maps_take_a_distorted_pixel_back_to_the_pinhole_projection() -> None:
+    R, t = look_at((0.5, 1.3, 2.8), (0.0, 1.0, 0.0))
+    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
+    assert cam.undistort_maps() is None  # nothing to undo
+    bent = Camera(cam.name, cam.width, cam.height, cam.K, cam.R, cam.t,
+                  np.array([-0.2, 0.05, 0.0, 0.0, 0.0]))
+    maps = bent.undistort_maps()
+    assert maps is not None and maps[0].shape == (480, 640)
+    point = np.array([[0.6, 1.7, 0.2]])  # near the image's corner, where the lens bends most
+    ideal = bent.project(point, distort=False)[0]
+    seen = bent.project(point)[0]
+    assert np.linalg.norm(ideal - seen) > 3.0
+    u, v = int(round(ideal[0])), int(round(ideal[1]))
+    assert np.hypot(maps[0][v, u] - seen[0], maps[1][v, u] - seen[1]) < 1.0

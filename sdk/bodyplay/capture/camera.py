@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -156,6 +157,18 @@ class Camera:
                 & (u <= self.width - 1 - margin)
                 & (v <= self.height - 1 - margin)
             )
+
+    def undistort_maps(self) -> tuple[NDArray[np.float32], NDArray[np.float32]] | None:
+        """``cv2.remap`` maps that take this camera's images to the ideal pinhole ``K``
+        (the one :meth:`project` with ``distort=False`` uses); None without distortion.
+
+        Trackers undistort each frame once, so that their pinhole models hold.
+        """
+        if not np.any(self.dist):
+            return None
+        m1, m2 = cv2.initUndistortRectifyMap(self.K, self.dist, None, self.K,
+                                             (self.width, self.height), cv2.CV_32FC1)
+        return np.asarray(m1, np.float32), np.asarray(m2, np.float32)
 
     def with_size(self, width: int, height: int) -> Camera:
         """The same camera with its image resampled to another size."""

@@ -142,7 +142,7 @@ class ColorShirtTracker:
             options.body, skeleton, PoseRenderer(skeleton), KinematicSolver(skeleton, cameras))
         self._use(self._fixed)
         self.placement = DatabasePlacement(database, cameras)
-        self._undistort = [self._undistort_maps(c) for c in cameras]
+        self._undistort = [c.undistort_maps() for c in cameras]
         self._arms = ArmSearches(database.poses, options.arm_library)
         self.reset()
 
@@ -195,14 +195,6 @@ class ColorShirtTracker:
     def body_name(self) -> str:
         """Name of the body preset in use (the reference ``m`` while choosing)."""
         return self.body.name
-
-    @staticmethod
-    def _undistort_maps(cam: Camera) -> tuple[NDArray[np.float32], NDArray[np.float32]] | None:
-        if not np.any(cam.dist):
-            return None
-        m1, m2 = cv2.initUndistortRectifyMap(cam.K, cam.dist, None, cam.K,
-                                             (cam.width, cam.height), cv2.CV_32FC1)
-        return np.asarray(m1, np.float32), np.asarray(m2, np.float32)
 
     # ---- per camera: locate, classify, query -----------------------------------------
     def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
