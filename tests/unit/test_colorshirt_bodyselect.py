@@ -69,12 +69,18 @@ def _capture(shape: str, n: int, cams: tuple[Camera, ...], arms: float = 1.0
     return out
 
 
+def _choosing(db, frames: int):  # type: ignore[no-untyped-def]
+    """A two-camera tracker choosing among the presets over ``frames`` frames (no arm
+    stage, no background model: the painted frames have no empty room)."""
+    return create_colorshirt_tracker(
+        ColorShirtOptions(body="auto", body_selection_frames=frames, arm_selection_frames=0,
+                          background_subtraction=False),
+        webcam_rig(), database=db)
+
+
 def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: ignore[no-untyped-def]
     cams = webcam_rig()
-    tr = create_colorshirt_tracker(
-        ColorShirtOptions(body="auto", body_selection_frames=4, arm_selection_frames=0,
-                          background_subtraction=False),
-        cams, database=db)
+    tr = _choosing(db, 4)
     assert tr.body_name == "m"  # the reference body until the start-up frames are in
     results = [tr.process(fs) for fs in _capture("xs", 5, cams)]
     assert all(r.found for r in results)
@@ -86,12 +92,8 @@ def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: 
 
 
 def test_before_the_choice_the_pose_comes_from_the_best_body_so_far(db) -> None:  # type: ignore[no-untyped-def]
-    cams = webcam_rig()
-    tr = create_colorshirt_tracker(
-        ColorShirtOptions(body="auto", body_selection_frames=6, arm_selection_frames=0,
-                          background_subtraction=False),
-        cams, database=db)
-    for fs in _capture("xs", 3, cams):
+    tr = _choosing(db, 6)
+    for fs in _capture("xs", 3, webcam_rig()):
         assert tr.process(fs).found
     assert tr._selection is not None and tr._selection.chosen is None
     means = tr.diagnostics["body_residuals"]
