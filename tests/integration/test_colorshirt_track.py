@@ -300,7 +300,7 @@ def test_one_camera_reads_the_players_stature_while_choosing_the_body(
     from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
 
     opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
-                             body_selection_frames=12, arm_selection_frames=0,
+                             body_selection_frames=12, arm_selection_frames=3,
                              body_choice_max_stagger=float("inf"))
     src = open_source(lead_in_capture)
     assert src.cameras is not None
@@ -318,3 +318,4 @@ def test_one_camera_reads_the_players_stature_while_choosing_the_body(
     assert abs(stature - float(np.median(head))) < 0.04, (stature, np.median(head))
     assert selection.chosen is not None and selection.fits_stature(selection.chosen)
     assert selection.chosen not in {"xs", "s"}  # the actor is 1.75 m tall
+    assert tracker.stature == stature  # kept through the arm stage, for the summary

@@ -170,6 +170,7 @@ class ColorShirtTracker:
         """This frame's priors on the root's depth (the feet on the floor, and the
         depth carried from the last frame by ``_depth``)."""
         self._selection: BodySelection | None = None
+        self._stature: float | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
         self._reference = "m"
@@ -195,6 +196,13 @@ class ColorShirtTracker:
     def body_name(self) -> str:
         """Name of the body preset in use (the reference ``m`` while choosing)."""
         return self.body.name
+
+    @property
+    def stature(self) -> float | None:
+        """The player's head height (m) that one camera read while choosing the body
+        (median of the start-up frames; None: not read, e.g. two cameras or no plate)."""
+        stage = self._selection
+        return self._stature if self._arm_stage_started or stage is None else stage.stature()
 
     # ---- per camera: locate, classify, query -----------------------------------------
     def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
@@ -501,6 +509,7 @@ class ColorShirtTracker:
         if n <= 0 or sel is None or sel.chosen is None or self._arm_stage_started:
             return
         self._arm_stage_started = True
+        self._stature = sel.stature()
         variants = arm_variants(self._bodies[sel.chosen], self.cameras,
                                 tuple(self.options.arm_scales))
         previous = sel.previous.get(sel.chosen)
