@@ -127,6 +127,14 @@ def test_tracker_rejects_frames_out_of_order_and_wrong_camera_counts(db) -> None
     tr.process(_frameset([img], 1))
 
 
+def test_tracker_rejects_a_frame_of_another_size_than_its_calibration(db) -> None:  # type: ignore[no-untyped-def]
+    tr = create_colorshirt_tracker(ColorShirtOptions(), webcam_rig(1), database=db)
+    small = clutter(240, 320, np.random.default_rng(4))
+    with pytest.raises(CaptureError, match=r"320x240 but its calibration is for 640x480"):
+        tr.process(_frameset([small], 0))
+    assert tr.process(_frameset([clutter(480, 640, np.random.default_rng(4))], 1)).found is False
+
+
 def test_options_and_factory_validate_their_inputs(db) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(ConfigError):
         ColorShirtOptions(threshold=6.0, prior_threshold=5.0)

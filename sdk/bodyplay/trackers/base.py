@@ -16,8 +16,10 @@ from numpy.typing import NDArray
 from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
+from bodyplay.errors import CaptureError
 
-__all__ = ["JointState", "TrackerCapabilities", "TrackResult", "Tracker", "lost_result"]
+__all__ = ["JointState", "TrackerCapabilities", "TrackResult", "Tracker", "check_frame_set",
+           "lost_result"]
 
 JointState = Literal["tracked", "inferred", "lost"]
 
@@ -74,6 +76,28 @@ class TrackResult:
             "state": dict(zip(JOINT_NAMES, self.state, strict=True)),
             "ms": round(float(self.ms), 3),
         }
+
+
+def check_frame_set(frames: FrameSet, cameras: tuple[Camera, ...]) -> None:
+    """Raise :class:`CaptureError` unless ``frames`` holds one frame per calibrated
+    camera, each of the size its calibration was made for.
+
+    A frame of another size would be read with the wrong intrinsics: the poses come
+    out wrong (or the shirt is never found) with no other sign of why.
+    """
+    if len(frames) != len(cameras):
+        raise CaptureError(
+            f"got {len(frames)} frames for {len(cameras)} cameras; the frame set "
+            "must hold one frame per calibrated camera"
+        )
+    for frame, cam in zip(frames, cameras, strict=True):
+        h, w = frame.image.shape[:2]
+        if (w, h) != (cam.width, cam.height):
+            raise CaptureError(
+                f"frame {frames.index} of camera {cam.name!r} is {w}x{h} but its "
+                f"calibration is for {cam.width}x{cam.height}; capture at the calibrated "
+                "size, or scale the calibration with Camera.with_size(width, height)"
+            )
 
 
 def lost_result(frame: int, t: float, ms: float = 0.0) -> TrackResult:

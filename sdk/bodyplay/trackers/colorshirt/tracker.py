@@ -32,8 +32,13 @@ from bodyplay.body.shirt import NUM_COLORS
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
-from bodyplay.errors import CaptureError, TimestampError
-from bodyplay.trackers.base import TrackerCapabilities, TrackResult, lost_result
+from bodyplay.errors import TimestampError
+from bodyplay.trackers.base import (
+    TrackerCapabilities,
+    TrackResult,
+    check_frame_set,
+    lost_result,
+)
 from bodyplay.trackers.colorshirt.anchors import Observed, patch_anchors
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
@@ -352,11 +357,7 @@ class ColorShirtTracker:
                 "feed frames in time order (or call reset())"
             )
         self._last_t = frames.t
-        if len(frames) != len(self.cameras):
-            raise CaptureError(
-                f"got {len(frames)} frames for {len(self.cameras)} cameras; the frame set "
-                "must hold one frame per calibrated camera"
-            )
+        check_frame_set(frames, self.cameras)
         before = [None if st.W is None else st.W.copy() for st in self._cams]
         views = [v for i, fr in enumerate(frames) if (v := self._view(i, fr.image)) is not None]
         if self.options.adaptive_white_balance:
