@@ -326,3 +326,13 @@ def test_head_height_is_none_without_feet_on_the_floor() -> None:
     head = HeadPoint(320.0, 100.0, 12.0, 1.0)
     assert head_height(cam, [], head) is None
     assert head_height(cam, [FeetPoint(320.0, 50.0)], head) is None  # above the horizon
+
+
+def test_within_reach_rejects_a_root_that_crossed_the_room_since_the_last_pose() -> None:
+    from bodyplay.trackers.colorshirt.cues import within_reach
+
+    last = (1.0, np.array([0.0, 0.9, 0.0]))
+    assert within_reach(None, 1.0, np.array([5.0, 0.9, 0.0]), 2.0)  # nothing reported yet
+    assert within_reach(last, 1.1, np.array([0.4, 0.9, 0.0]), 2.0)  # 0.25 + 2 * 0.1 m
+    assert not within_reach(last, 1.1, np.array([0.5, 0.9, 0.0]), 2.0)
+    assert within_reach(last, 2.5, np.array([5.0, 0.9, 0.0]), 2.0)  # over a second ago

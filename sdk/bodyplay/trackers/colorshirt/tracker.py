@@ -56,6 +56,7 @@ from bodyplay.trackers.colorshirt.cues import (
     head_anchors,
     head_height,
     join_anchors,
+    within_reach,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
@@ -383,7 +384,8 @@ class ColorShirtTracker:
             fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
-        if fit is not None and not self._within_reach(frames.t, fit.q):
+        if fit is not None and not within_reach(self._reported, frames.t, fit.q[:3],
+                                                self.options.max_speed):
             # not reported, but the pixels where its render and the classification
             # agree still tell the new illumination (after a light switch this is
             # how W catches up)
@@ -405,23 +407,6 @@ class ColorShirtTracker:
         self._reported = (frames.t, fit.q[:3].copy())
         self._depth.update(self.cameras, lone, frames.t, fit.q[:3], self._floor.priors, held)
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
-
-    def _within_reach(self, t: float, q: NDArray[np.float64]) -> bool:
-        """Whether the root is within reach of the last reported pose.
-
-        A person's pelvis does not cross the room between two frames: a fit whose
-        root lies further than ``0.25 m + max_speed * dt`` from the pose reported at
-        most a second ago is a wrong fit (a light switched off, the shirt half
-        unclassified) and the frame is reported lost instead.
-        """
-        if self._reported is None:
-            return True
-        t_prev, root = self._reported
-        dt = t - t_prev
-        if dt > 1.0:
-            return True
-        reach = 0.25 + self.options.max_speed * dt
-        return float(np.linalg.norm(q[:3] - root)) <= reach
 
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
         """Start-up: fit every candidate preset, keep the one reprojecting best.
