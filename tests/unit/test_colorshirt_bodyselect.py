@@ -288,3 +288,16 @@ def test_upright_head_height_grows_with_the_preset() -> None:
     s, m = (upright_head_height(Skeleton.from_shape(n), 0.02) for n in ("s", "m"))
     assert m == pytest.approx(1.63, abs=0.01)
     assert s < m - 0.1
+
+
+def test_body_selection_halving_keeps_a_candidate_the_tolerance_could_still_choose() -> None:
+    names = ("a84", "a88", "a92", "a96", "a100")  # the arm stage: shortest first
+    residual = {"a84": 0.0202, "a88": 0.0203, "a92": 0.0190, "a96": 0.0188, "a100": 0.0189}
+    tolerant = BodySelection(names, frames=4, halvings=(0.5,), tolerance=0.1)
+    strict = BodySelection(names, frames=4, halvings=(0.5,))
+    for _ in range(4):
+        tolerant.add(residual)
+        strict.add(residual)
+    assert strict.active == ["a96", "a100", "a92"] and strict.chosen == "a96"
+    assert "a84" in tolerant.active  # 7% above the best: within the tolerance
+    assert tolerant.chosen == "a84"  # the shortest arm that fits nearly best

@@ -108,8 +108,10 @@ class BodySelection:
     candidate's last pose (its own temporal prior while the candidates run side by
     side); ``chosen`` is set once the frames are in. ``halvings`` are the fractions
     of ``frames`` after which the worse half of the candidates still in the race
-    (``active``) drops out (successive halving, down to two): the clear losers stop
-    costing a fit per frame early, the close ones are decided on every frame.
+    (``active``) drops out (successive halving, down to two), except candidates
+    within ``tolerance`` of the lowest mean, which the rule below could still
+    choose: the clear losers stop costing a fit per frame early, the close ones
+    are decided on every frame.
     ``tolerance``: the first candidate in ``names`` order whose mean residual is
     within this fraction of the lowest wins (0: the lowest wins); the arm-length
     stage lists its candidates shortest first, so that it prefers the shortest arm
@@ -157,7 +159,10 @@ class BodySelection:
             if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
                 ranked = sorted(self.active, key=lambda n: (not self.fits_stature(n),
                                                             self.mean(n)))
-                self.active = ranked[: max(2, (len(ranked) + 1) // 2)]
+                kept = ranked[: max(2, (len(ranked) + 1) // 2)]
+                near = self.mean(ranked[0]) * (1.0 + self.tolerance)
+                self.active = [n for n in ranked if n in kept or (
+                    self.fits_stature(n) and self.mean(n) <= near)]
         if self.chosen is None and self.seen >= self.frames and self.counts:
             self.chosen = self.best()
 
