@@ -255,8 +255,19 @@ def test_body_selection_keeps_a_preset_of_the_wrong_stature_from_winning() -> No
         sel.add_stature(1.645)
         sel.add({"s": 0.010, "m_slim": 0.012, "m": 0.013})  # s reprojects best
     assert not sel.fits_stature("s") and sel.fits_stature("m_slim")
-    assert "s" not in sel.active  # ranked last at the halving
     assert sel.chosen == "m_slim"
+
+
+def test_body_selection_stops_fitting_presets_of_the_wrong_stature_once_it_is_known() -> None:
+    heights = {"xs": 1.45, "s": 1.52, "m_slim": 1.58, "m": 1.63, "xl": 1.75}
+    sel = BodySelection(tuple(heights), frames=20, halvings=(0.5,), heights=heights,
+                        stature_tolerance=0.1, min_stature_readings=3)
+    for frame in range(3):
+        sel.add_stature(1.645)
+        sel.add({n: 0.01 for n in sel.active})
+        if frame < 2:
+            assert len(sel.active) == 5  # too few readings to judge
+    assert sel.active == ["m_slim", "m"]  # xs, s and xl cost no more fits
 
 
 def test_body_selection_ignores_the_stature_until_enough_readings_are_in() -> None:

@@ -122,8 +122,8 @@ class BodySelection:
     ``heights`` (metres, per candidate): where each candidate's visible head stands
     when upright; with ``stature_tolerance`` and at least ``min_stature_readings``
     readings of the player's own (:meth:`add_stature`), a candidate whose head
-    lies further than the tolerance from their median is out of the race: it
-    ranks last at each halving and cannot win while one within it can.
+    lies further than the tolerance from their median leaves the race on the next
+    frame (it costs no more fits), unless no candidate is within it.
     """
 
     names: tuple[str, ...]
@@ -155,6 +155,8 @@ class BodySelection:
             if np.isfinite(r):
                 self.sums[n] = self.sums.get(n, 0.0) + r
                 self.counts[n] = self.counts.get(n, 0) + 1
+        if self.stature() is not None:
+            self.active = [n for n in self.active if self.fits_stature(n)] or self.active
         for f in self.halvings:
             if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
                 ranked = sorted(self.active, key=lambda n: (not self.fits_stature(n),
