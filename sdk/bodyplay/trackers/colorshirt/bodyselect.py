@@ -159,12 +159,10 @@ class BodySelection:
             self.active = [n for n in self.active if self.fits_stature(n)] or self.active
         for f in self.halvings:
             if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
-                ranked = sorted(self.active, key=lambda n: (not self.fits_stature(n),
-                                                            self.mean(n)))
+                ranked = sorted(self.active, key=self.mean)
                 kept = ranked[: max(2, (len(ranked) + 1) // 2)]
                 near = self.mean(ranked[0]) * (1.0 + self.tolerance)
-                self.active = [n for n in ranked if n in kept or (
-                    self.fits_stature(n) and self.mean(n) <= near)]
+                self.active = [n for n in ranked if n in kept or self.mean(n) <= near]
         if self.chosen is None and self.seen >= self.frames and self.counts:
             self.chosen = self.best()
 
@@ -201,12 +199,11 @@ class BodySelection:
 
     def best(self) -> str:
         """The candidate in the race with the lowest mean residual among those fitted
-        most often (and of the player's stature, where any of them is)."""
+        most often."""
         most = max((self.counts.get(n, 0) for n in self.active), default=0)
         pool = [n for n in self.active if self.counts.get(n, 0) >= max(1, most // 2)]
         if not pool:
             return self.active[0] if self.active else self.names[0]
-        pool = [n for n in pool if self.fits_stature(n)] or pool
         best = min(self.mean(n) for n in pool)
         return next(n for n in self.names if n in pool
                     and self.mean(n) <= best * (1.0 + self.tolerance))
