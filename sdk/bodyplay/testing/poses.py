@@ -63,9 +63,28 @@ KEY_POSES: dict[str, dict[str, Any]] = {
     },
     "jump": {"rotations": {"l_shoulder": (0.0, 0.0, 1.2), "r_shoulder": (0.0, 0.0, -1.2)},
              "lift": 0.3},
+    # The ninja's five motions (single-camera silhouette paper, section 4).
+    "hit_up": {"rotations": {**_ARMS_DOWN, "r_shoulder": (0.0, 0.5, -1.9),
+                             "r_elbow": (0.0, 0.3, 0.0)}},
+    "double_up": {"rotations": {"l_shoulder": (0.0, -0.6, 2.0), "r_shoulder": (0.0, 0.6, -2.0),
+                                "l_elbow": (0.0, -0.3, 0.0), "r_elbow": (0.0, 0.3, 0.0)}},
+    "double_down": {"rotations": {"l_shoulder": (0.0, -0.9, -0.9),
+                                  "r_shoulder": (0.0, 0.9, 0.9)}},
+    "arms_out": {"rotations": {"l_shoulder": (0.0, 0.0, -0.1), "r_shoulder": (0.0, 0.0, 0.1)}},
+    "arms_folded": {"rotations": {"l_shoulder": (0.0, -1.0, -1.3), "l_elbow": (0.0, -2.4, 0.0),
+                                  "r_shoulder": (0.0, 1.0, 1.3), "r_elbow": (0.0, 2.4, 0.0)}},
+    "straddle_left": {"rotations": {**_ARMS_DOWN, "l_hip": (0.0, 0.0, 0.3),
+                                    "r_hip": (0.0, 0.0, -0.3)},
+                      "grounded": True, "shift": (0.25, 0.0)},
+    "idle_left": {"rotations": _ARMS_DOWN, "shift": (0.5, 0.0)},
+    "straddle_right": {"rotations": {**_ARMS_DOWN, "l_hip": (0.0, 0.0, 0.3),
+                                     "r_hip": (0.0, 0.0, -0.3)},
+                       "grounded": True, "shift": (-0.25, 0.0)},
+    "idle_right": {"rotations": _ARMS_DOWN, "shift": (-0.5, 0.0)},
 }
 """Key poses by name: node rotations, ``grounded`` (lower the body until the lower
-ankle rests at its standing height) and ``lift`` (metres off the floor)."""
+ankle rests at its standing height), ``lift`` (metres off the floor) and ``shift``
+(x, z metres along the floor; +x is the person's left)."""
 
 GESTURE_MOTIONS: dict[str, Sequence[tuple[float, str]] | str] = {
     "raise_right_hand": ((0.0, "idle"), (0.5, "right_hand_up"), (1.0, "right_hand_up"),
@@ -84,6 +103,16 @@ GESTURE_MOTIONS: dict[str, Sequence[tuple[float, str]] | str] = {
                   (2.0, "idle")),
     "squat": ((0.0, "idle"), (0.6, "squat"), (1.0, "squat"), (1.6, "idle")),
     "jump": ((0.0, "idle"), (0.2, "squat"), (0.45, "jump"), (0.7, "idle")),
+    # The ninja's five motions, performed as the built-in gestures of the same names
+    # expect them; step_left / step_right end 0.5 m to the side.
+    "transfigure": ((0.0, "idle"), (0.5, "arms_out"), (0.9, "arms_out"), (1.3, "arms_folded"),
+                    (1.8, "arms_folded"), (2.3, "idle")),
+    "crouch": ((0.0, "idle"), (0.4, "squat"), (0.8, "squat"), (1.2, "idle")),
+    "step_left": ((0.0, "idle"), (0.3, "straddle_left"), (0.6, "idle_left")),
+    "step_right": ((0.0, "idle"), (0.3, "straddle_right"), (0.6, "idle_right")),
+    "hit": ((0.0, "idle"), (0.35, "hit_up"), (0.5, "hit_up"), (0.8, "idle")),
+    "double_hit": ((0.0, "idle"), (0.4, "double_up"), (0.6, "double_up"), (0.85, "double_down"),
+                   (1.1, "idle")),
 }
 """Named gestures as key-pose sequences ``(seconds from the gesture's start, pose)``."""
 
@@ -109,6 +138,10 @@ def key_pose(
     if spec.get("grounded"):
         q = grounded(skeleton, q)
     q[1] += float(spec.get("lift", 0.0))
+    shift = spec.get("shift")
+    if shift is not None:
+        q[0] += float(shift[0])
+        q[2] += float(shift[1])
     return q
 
 

@@ -202,16 +202,27 @@ class Timeline:
         return self._add(start, float(duration), sample, blend, f"clip {name}")
 
     def gesture(self, name: str, *, start: float | None = None,
-                blend: float | None = None, speed: float = 1.0) -> Timeline:
-        """Perform a named gesture from the gesture table (key poses or a clip)."""
+                blend: float | None = None, speed: float = 1.0,
+                at: ArrayLike = (0.0, 0.0)) -> Timeline:
+        """Perform a named gesture from the gesture table (key poses or a clip).
+
+        ``at`` (x, z metres) moves it along the floor: a player who stepped aside
+        performs the next gesture where they stand.
+        """
         motion = self.gesture_motions.get(name)
         if motion is None:
             raise ConfigError(
                 f"unknown gesture {name!r}; known: {', '.join(sorted(self.gesture_motions))}"
             )
         if isinstance(motion, str) or hasattr(motion, "poses"):
-            return self.clip(motion, start=start, blend=blend, speed=speed)
-        keys = [(float(t) / speed, p) for t, p in motion]
+            return self.clip(motion, start=start, blend=blend, speed=speed, at=at)
+        xz = np.asarray(at, dtype=np.float64).reshape(2)
+        keys = []
+        for t, p in motion:
+            q = resolve_pose(p, self.skeleton, self.key_poses).copy()
+            q[0] += xz[0]
+            q[2] += xz[1]
+            keys.append((float(t) / speed, q))
         return self.keys(keys, start=start, blend=blend, label=f"gesture {name}")
 
     # ---- evaluation ------------------------------------------------------------------
