@@ -289,6 +289,41 @@ class PhysicsWorld(ContactBook):
                     self._enable(p, uv)
             self._prev_uv, self._prev_t, self._last_t = uv, t, t
 
+    def resume(self, event: PoseEvent) -> None:
+        """Take ``event``'s pose without simulating the time since the previous pose
+        (after a game pause): objects stay where they were, the body parts jump to the
+        new pose, and stepping goes on from this pose's time (:attr:`time` jumps to it)."""
+        if event.player != self.options.player:
+            return
+        with self.lock:
+            if self._closed:
+                return
+            t = float(event.t)
+            if self._last_t is not None and not t > self._last_t:
+                raise TimestampError(
+                    f"physics got pose frame {event.frame} at t = {t:.6f} s, not after the "
+                    f"previous pose at t = {self._last_t:.6f} s"
+                )
+            joints = self._joints(event)
+            self._build(joints)
+            uv = self._points(joints)
+            for p in self._parts.values():
+                g = self._geometry(p, uv)
+                if p.enabled and g is None:
+                    self._disable(p)
+                elif p.enabled and g is not None:
+                    p.pos, p.angle, p.length = (g[0], g[1]), g[2], g[3]
+                    p.body.position = p.pos
+                    p.body.angle = p.angle
+                    p.body.velocity = (0.0, 0.0)
+                    p.body.angular_velocity = 0.0
+                    self._set_length(p, p.length)
+                elif g is not None:
+                    self._enable(p, uv)
+            self._flush(t)
+            self._t0 = t - self.steps * self.options.dt
+            self._prev_uv, self._prev_t, self._last_t = uv, t, t
+
     @staticmethod
     def _joints(event: PoseEvent) -> NDArray[np.float64]:
         """The (17, 3) joints with NaN wherever the state says ``lost``."""

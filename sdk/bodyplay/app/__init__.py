@@ -1,0 +1,36 @@
+"""The game kit: what every example game shares (see docs/game-kit.md).
+
+A game subclasses :class:`Game` (setup, fixed-step update, draw a :class:`Scene`,
+summary); :func:`run_game` plays it from any input (webcam, capture, recording,
+clip, the game's virtual player) in a pygame window or headless to an mp4 plus
+summary.json; :func:`game_main` is the one command line of every game.
+"""
+
+from bodyplay.app.cli import game_argument_parser, game_main
+from bodyplay.app.game import STAGES, Game, GameContext
+from bodyplay.app.inputs import GameInput, open_game_input
+from bodyplay.app.options import VIRTUAL_INPUT, GameOptions, display_available, make_game_options
+from bodyplay.app.renderer import SceneRenderer
+from bodyplay.app.runner import NO_PLAYER_SECONDS, GameResult, run_game
+from bodyplay.app.scene import AVATAR_COLOR, LOST_COLOR, Scene
+
+__all__ = [
+    "AVATAR_COLOR",
+    "LOST_COLOR",
+    "NO_PLAYER_SECONDS",
+    "STAGES",
+    "VIRTUAL_INPUT",
+    "Game",
+    "GameContext",
+    "GameInput",
+    "GameOptions",
+    "GameResult",
+    "Scene",
+    "SceneRenderer",
+    "display_available",
+    "game_argument_parser",
+    "game_main",
+    "make_game_options",
+    "open_game_input",
+    "run_game",
+]
