@@ -322,3 +322,24 @@ def test_bad_objects_raise_config_error(idle):
     world.close()
     with pytest.raises(ConfigError, match="closed"):
         world.add_ball((0.0, 3.0))
+
+
+def test_resume_after_a_pause_skips_the_gap_without_moving_objects(idle):
+    from bodyplay.events.types import PoseEvent
+
+    world = PhysicsWorld(PhysicsOptions())  # with gravity
+
+    def pose(t: float, frame: int) -> PoseEvent:
+        return PoseEvent(t=t, emitted_t=t, frame=frame, joints=idle, state=("tracked",) * 17,
+                         confidence=np.ones(17))
+
+    world.on_pose(pose(0.0, 0))
+    ball = world.add_ball((1.5, 3.0), (0.0, 0.0), name="ball")
+    world.on_pose(pose(0.1, 1))
+    y_before = ball.body.position.y
+    steps = world.steps
+    world.resume(pose(5.0, 2))  # five seconds later: nothing simulated
+    assert ball.body.position.y == y_before and world.steps == steps
+    world.on_pose(pose(5.1, 3))  # and the next pose steps 0.1 s only
+    assert world.steps == steps + 12
+    assert 3.0 - ball.body.position.y < 0.3  # fell for 0.2 s in all, not 5 s
