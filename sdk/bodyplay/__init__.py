@@ -77,6 +77,16 @@ from bodyplay.runtime import (
 )
 from bodyplay.testing import ScriptedPlayer, Timeline, scripted_session
 from bodyplay.trackers import Tracker, TrackerCapabilities, TrackResult, create_tracker
+from bodyplay.virtual import (
+    IdleMotion,
+    PoseController,
+    ReachController,
+    ReachOptions,
+    TimelineController,
+    VirtualPlayerSource,
+    VirtualPoseSource,
+    make_reach_options,
+)
 
 __version__ = "0.1.0"
 
@@ -103,6 +113,7 @@ __all__ = [
     "Frame",
     "FrameSet",
     "GestureEvent",
+    "IdleMotion",
     "ImageFolderSource",
     "ManualClock",
     "MotionClip",
@@ -111,9 +122,12 @@ __all__ = [
     "PhysicsWorld",
     "PluginError",
     "PluginRegistry",
+    "PoseController",
     "PoseEvent",
     "PoseSample",
     "PoseTrack",
+    "ReachController",
+    "ReachOptions",
     "ReplaySource",
     "ScriptedPlayer",
     "Session",
@@ -122,6 +136,7 @@ __all__ = [
     "SkinnedMesh",
     "SystemClock",
     "Timeline",
+    "TimelineController",
     "TimestampError",
     "TrackResult",
     "Tracker",
@@ -129,6 +144,8 @@ __all__ = [
     "TrackingEvent",
     "UnknownEventError",
     "VideoFileSource",
+    "VirtualPlayerSource",
+    "VirtualPoseSource",
     "WebcamSource",
     "attach_physics",
     "body_mesh",
@@ -138,6 +155,7 @@ __all__ = [
     "evaluate",
     "load_actor",
     "load_clip",
+    "make_reach_options",
     "look_at",
     "open_source",
     "read_bvh",

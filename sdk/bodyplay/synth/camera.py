@@ -407,6 +407,19 @@ class SyntheticCamera:
         self._next_index = idx + 1
         return self._shoot(float(t), idx, q, sub)
 
+    def capture_empty(self, t: float, index: int | None = None) -> SynthFrame:
+        """Render one frame of the empty room at ``t`` (no actor; truth joints NaN).
+
+        For live sources that start before the player steps in; it does not count
+        as a pose for the next :meth:`capture`'s motion blur.
+        """
+        if not math.isfinite(t):
+            raise ConfigError(f"capture time must be finite, got {t}")
+        idx = self._next_index if index is None else int(index)
+        self._next_index = idx + 1
+        empty = np.full(self.skeleton.pose_dim, np.nan)
+        return self._develop(float(t), idx, empty, self._expose(float(t), None))
+
     def render(
         self, poses: ArrayLike, times: Sequence[float] | None = None
     ) -> list[SynthFrame]:
