@@ -183,3 +183,56 @@ def test_a_step_forwards_is_no_side_step():
             (2.3, sk.pose(root=(0, h, 0.5), rotations=_ARMS_DOWN))]
     got = _performed(*_sequence(sk, keys))
     assert "step_left" not in got and "step_right" not in got
+
+
+# ---- upper-body input (the color shirt reports no legs) ---------------------------------
+def _no_legs(joints: np.ndarray) -> np.ndarray:
+    out = joints.copy()
+    out[:, 11:] = np.nan
+    return out
+
+
+@pytest.mark.parametrize("shape", ["s", "m", "xl"])
+@pytest.mark.parametrize(("side", "name"), [(1, "step_left"), (-1, "step_right")])
+def test_side_step_is_recognized_from_the_hips_alone_when_no_leg_is_seen(shape, side, name):
+    times, joints = _step(shape, side, 0.5, 0.7)
+    assert _performed(times, _no_legs(joints)) == [name]
+
+
+def test_crouch_is_recognized_without_legs_against_the_world_floor():
+    from bodyplay.testing import Timeline
+
+    tl = Timeline().hold("idle", 1.0).gesture("crouch").wait(1.0)
+    times = np.arange(0.0, tl.duration, 1.0 / FPS)
+    joints = np.stack([tl.joints_at(float(t)) for t in times])
+    assert _performed(times, _no_legs(joints)) == ["crouch"]
+
+
+def test_a_step_forwards_without_legs_is_no_side_step():
+    sk = Skeleton()
+    h = sk.pelvis_height
+    keys = [(0.0, sk.pose(root=(0, h, 0), rotations=_ARMS_DOWN)),
+            (0.8, sk.pose(root=(0, h, 0), rotations=_ARMS_DOWN)),
+            (1.5, sk.pose(root=(0, h, 0.5), rotations=_ARMS_DOWN)),
+            (2.3, sk.pose(root=(0, h, 0.5), rotations=_ARMS_DOWN))]
+    times, joints = _sequence(sk, keys)
+    got = _performed(times, _no_legs(joints))
+    assert "step_left" not in got and "step_right" not in got
+
+
+def test_real_clips_without_legs_keep_precision(real_scores):
+    # Same labeled clips with the legs removed (an upper-body tracker's view).
+    from bodyplay.motion.clip import load_clip
+
+    defs = load_gestures(["crouch", "hit", "double_hit", "step_left", "step_right",
+                          "transfigure"])
+    names = [d.name for d in defs]
+    rec = GestureRecognizer(defs)
+    tot = GestureScore()
+    for clip in load_labels(LABELS, DATA):
+        mc = load_clip(clip.path, fps=FPS)
+        events = run_recognizer(rec, mc.times, _no_legs(mc.joints()))
+        for s in score_events(clip.name, events, clip.spans, names).values():
+            tot.add(s)
+    assert tot.precision >= 0.9, tot.false_times
+    assert tot.recall >= 0.9, tot.missed

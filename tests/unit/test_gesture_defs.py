@@ -107,6 +107,10 @@ def test_condition_parses_feature_joints_operator_and_threshold():
         ('[gesture]\nname = "x"\n', "needs at least one \\[\\[stage\\]\\]"),
         ('[[stage]]\nwhen = []\n', "stage\\[0\\].when: must be a non-empty list"),
         ('[[stage]\nwhen = 3\n', "malformed TOML"),
+        ('[[stage]]\nwhen = ["pelvis_drop > 0.2"]\nwhen_no_legs = []\n',
+         "stage\\[0\\].when_no_legs: must be a non-empty list"),
+        ('[[stage]]\nwhen = ["pelvis_drop > 0.2"]\nwhen_no_legs = ["speed(hand) < 1"]\n',
+         "when_no_legs\\[0\\]: unknown joint 'hand'"),
     ],
 )
 def test_bad_definitions_raise_config_error_naming_file_and_key(text: str, message: str):
@@ -244,3 +248,14 @@ def test_standing_still_triggers_no_builtin_gesture(skeleton: Skeleton):
     rng = np.random.default_rng(0)
     frames = [_standing(skeleton) + rng.normal(0, 0.005, (17, 3)) for _ in range(150)]
     assert _feed(rec, frames) == []
+
+
+def test_when_no_legs_replaces_when_only_in_frames_without_legs(skeleton: Skeleton):
+    g = parse_gesture('[[stage]]\nwhen = ["height(l_ankle) > 5"]\n'
+                      'when_no_legs = ["height(head) > 2"]\n', "g.toml", "g")
+    rec = GestureRecognizer([g])
+    j = skeleton.joint_positions(skeleton.rest_pose())
+    assert not [e for e in rec.update(0.0, j) if e.phase == "performed"]
+    legless = j.copy()
+    legless[11:] = np.nan
+    assert [e.gesture for e in rec.update(0.1, legless) if e.phase == "performed"] == ["g"]

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
-from bodyplay.testing import GESTURE_MOTIONS, Timeline
+from bodyplay.testing import GESTURE_MOTIONS, Timeline, key_pose
 
 if TYPE_CHECKING:
     from apps.ninja.game.rules import NinjaRules
@@ -92,6 +92,17 @@ class NinjaPlayer:
     def joints_at(self, t: float) -> NDArray[np.float64]:
         """(17, 3) joints of the pose at ``t`` (the truth)."""
         return self.timeline.joints_at(t)
+
+    def frame_joints(self) -> NDArray[np.float64]:
+        """Joints spanning where the player will be: the extreme poses of the five
+        motions, a side step either way (the synthetic camera frames its rig on them)."""
+        out = []
+        for pose in ("idle", "double_up", "arms_out", "squat"):
+            for x in (-_STEP, 0.0, _STEP):
+                v = key_pose(pose, self.skeleton).copy()
+                v[0] += x
+                out.append(self.skeleton.joint_positions(v))
+        return np.stack(out)
 
     # ---- behaviour ---------------------------------------------------------------------
     def _perform(self, gesture: str, start: float) -> None:

@@ -110,12 +110,17 @@ class Game:
 
     Class attributes: ``name`` (file names: ``<name>.mp4``), ``title`` (window),
     ``physics_options`` (a :class:`~bodyplay.physics.options.PhysicsOptions` to get
-    ``ctx.physics``; None: no physics world).
+    ``ctx.physics``; None: no physics world), ``gestures`` and ``filters`` (what the
+    session recognizes and how it smooths the joints first).
     """
 
     name: str = "game"
     title: str = "bodyplay game"
     physics_options: PhysicsOptions | None = None
+    gestures: tuple[str, ...] = ()
+    """Gestures the session recognizes (built-in names or .toml paths; empty: none)."""
+    filters: tuple[str, ...] = ()
+    """Joint filters (plugin names, e.g. ``"one_euro"``) applied before the gestures."""
 
     def setup(self, ctx: GameContext) -> None:
         """Build the game's state and subscribe to session events (called once)."""

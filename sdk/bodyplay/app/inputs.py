@@ -137,5 +137,13 @@ def open_game_input(
         fps = float(getattr(clip, "fps", 0.0) or getattr(rec, "fps", 0.0) or 30.0)
     live = kind == "webcam"
     clock = SystemClock() if live else FixedClock(1.0 / fps)
-    session = create_session(sopts, source=source, tracker=tracker, clock=clock)
+    gestures: Any = None
+    names = tuple(getattr(game, "gestures", ()) or ())
+    if names:
+        from bodyplay.gestures import GestureRecognizer, load_gestures
+
+        gestures = GestureRecognizer(load_gestures(list(names)))
+    filters = tuple(getattr(game, "filters", ()) or ())
+    session = create_session(sopts, source=source, tracker=tracker, clock=clock,
+                             filters=filters, gestures=gestures)
     return GameInput(session, kind, desc, live, fps)

@@ -82,12 +82,17 @@ class Condition:
 @dataclass(frozen=True)
 class Stage:
     """One phase of a gesture: conditions that must all hold for ``hold`` seconds,
-    beginning at most ``within`` seconds after the previous stage completed."""
+    beginning at most ``within`` seconds after the previous stage completed.
+
+    ``when_no_legs`` (optional) replaces ``when`` in frames where no leg joint is seen
+    (an upper-body tracker such as the color shirt): conditions on the pelvis alone.
+    """
 
     name: str
     when: tuple[Condition, ...]
     hold: float = 0.0
     within: float = 1.0
+    when_no_legs: tuple[Condition, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -180,20 +185,30 @@ def parse_gesture(text: str, source: str = "<string>", default_name: str = "") -
         where = f"{source}: stage[{i}]"
         if not isinstance(st, dict):
             raise ConfigError(f"{where}: must be a table")
-        _check_keys(st, {"name", "when", "hold", "within"}, where)
+        _check_keys(st, {"name", "when", "hold", "within", "when_no_legs"}, where)
         when = st.get("when")
         if isinstance(when, str):
             when = [when]
         if not isinstance(when, list) or not when:
             raise ConfigError(f"{where}.when: must be a non-empty list of condition strings")
         conds = tuple(parse_condition(c, f"{where}.when[{k}]") for k, c in enumerate(when))
+        no_legs = None
+        if "when_no_legs" in st:
+            nl = st["when_no_legs"]
+            if isinstance(nl, str):
+                nl = [nl]
+            if not isinstance(nl, list) or not nl:
+                raise ConfigError(f"{where}.when_no_legs: must be a non-empty list of "
+                                  "condition strings")
+            no_legs = tuple(parse_condition(c, f"{where}.when_no_legs[{k}]")
+                            for k, c in enumerate(nl))
         sname = st.get("name", f"stage{i + 1}")
         if not isinstance(sname, str):
             raise ConfigError(f"{where}.name: must be a string")
         hold = _number(st, "hold", where, 0.0)
         within = _number(st, "within", where, 1.0, positive=True)
         assert hold is not None and within is not None
-        stages.append(Stage(sname, conds, hold, within))
+        stages.append(Stage(sname, conds, hold, within, no_legs))
     assert cooldown is not None
     return GestureDefinition(name, tuple(stages), desc, cooldown, timeout, source)
 

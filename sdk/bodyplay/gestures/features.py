@@ -35,6 +35,7 @@ _LH, _RH = JOINT_INDEX["l_hip"], JOINT_INDEX["r_hip"]
 _LS, _RS = JOINT_INDEX["l_shoulder"], JOINT_INDEX["r_shoulder"]
 _LK, _RK = JOINT_INDEX["l_knee"], JOINT_INDEX["r_knee"]
 _LA, _RA = JOINT_INDEX["l_ankle"], JOINT_INDEX["r_ankle"]
+_LEGS = [JOINT_INDEX[n] for n in ("l_hip", "l_knee", "l_ankle", "r_hip", "r_knee", "r_ankle")]
 
 
 @dataclass(frozen=True)
@@ -48,6 +49,8 @@ class CalibrationOptions:
     estimate (a leaky minimum of ankle heights) may rise. ``velocity_window`` (s):
     span over which joint velocities are measured (longer is less noisy).
     ``shift_window`` (s): span over which ``shift_*`` displacements are measured.
+    ``upright_band`` (fraction of the standing pelvis height): with the legs unseen,
+    frames whose pelvis is this close to the standing height count as standing.
     """
 
     time_constant: float = 2.0
@@ -56,6 +59,7 @@ class CalibrationOptions:
     floor_rise: float = 0.02
     velocity_window: float = 0.1
     shift_window: float = 0.5
+    upright_band: float = 0.1
 
 
 class BodyCalibration:
@@ -106,8 +110,19 @@ class BodyCalibration:
         if self._upright(joints):
             self.standing_pelvis += a * (pel - self.standing_pelvis)
 
+    @property
+    def floor(self) -> float:
+        """The floor level: the ankles' leaky minimum, or the world floor (Y = 0) for a
+        source that never shows the legs (an upper-body tracker in a calibrated room)."""
+        return self.ankle_floor if np.isfinite(self.ankle_floor) else 0.0
+
     def _upright(self, j: NDArray[np.float64]) -> bool:
         o = self.options
+        if not np.all(np.isfinite(j[[_LK, _RK, _LA, _RA]])):
+            # Legs unseen: standing means the pelvis is within upright_band of the
+            # standing height (a crouch drops it by 25% or more, so never counts).
+            s = self.standing_pelvis - self.floor
+            return bool(j[_P, 1] > self.standing_pelvis - o.upright_band * s)
         knees = (_angle(j[_LH], j[_LK], j[_LA]), _angle(j[_RH], j[_RK], j[_RA]))
         if not all(np.isfinite(k) and k > o.straight_knee for k in knees):
             return False
@@ -149,6 +164,8 @@ class FeatureFrame:
         self.calib = calib
         self._cache: dict[tuple[str, tuple[str, ...]], float] = {}
         self.left = calib.left
+        self.legs_unseen = bool(np.all(np.isnan(joints[_LEGS])))
+        """No leg joint (hips, knees, ankles) is known in this frame."""
         self.up = np.array([0.0, 1.0, 0.0])
         self.forward = np.cross(self.left, self.up)
 
@@ -171,7 +188,7 @@ class FeatureSpec:
 
 
 def _height(f: FeatureFrame, a: list[int]) -> float:
-    return float((f.joints[a[0], 1] - f.calib.ankle_floor) / f.calib.torso)
+    return float((f.joints[a[0], 1] - f.calib.floor) / f.calib.torso)
 
 
 def _above(f: FeatureFrame, a: list[int]) -> float:
@@ -203,7 +220,7 @@ def _elevation(f: FeatureFrame, a: list[int]) -> float:
 
 
 def _pelvis_drop(f: FeatureFrame, a: list[int]) -> float:
-    s = f.calib.standing_pelvis - f.calib.ankle_floor
+    s = f.calib.standing_pelvis - f.calib.floor
     return float((f.calib.standing_pelvis - f.joints[_P, 1]) / s)
 
 

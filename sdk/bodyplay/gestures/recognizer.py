@@ -72,7 +72,8 @@ def _validate(o: GestureOptions) -> None:
     if o.clock is not None and not callable(o.clock):
         raise ConfigError("GestureOptions.clock must be a callable returning seconds, or None")
     c = o.calibration
-    for name in ("time_constant", "velocity_window", "shift_window", "floor_margin"):
+    for name in ("time_constant", "velocity_window", "shift_window", "floor_margin",
+                 "upright_band"):
         v = getattr(c, name)
         if not isinstance(v, int | float) or not v > 0:
             raise ConfigError(f"CalibrationOptions.{name} must be a positive number, got {v!r}")
@@ -161,7 +162,11 @@ class GestureRecognizer:
 
     # ---- the state machine ----------------------------------------------------------
     def _holds(self, m: _Machine, k: int, frame: FeatureFrame) -> bool:
-        return all(c.test(frame.value(c.feature, c.args)) for c in m.gesture.stages[k].when)
+        stage = m.gesture.stages[k]
+        conds = stage.when
+        if stage.when_no_legs is not None and frame.legs_unseen:
+            conds = stage.when_no_legs
+        return all(c.test(frame.value(c.feature, c.args)) for c in conds)
 
     def _emit(self, m: _Machine, t: float, phase: GesturePhase, progress: float,
               events: list[GestureEvent]) -> None:

@@ -1,0 +1,87 @@
+"""The ninja game on the kit: pose-level fights through run_game, the scene, the CLI."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from apps.ninja.game import NinjaPlayer
+from apps.ninja.game.game import NinjaGame, check_script
+
+from bodyplay.app import Scene, make_game_options, run_game
+from bodyplay.testing import ScriptedPlayer
+
+
+def _run(tmp_path: Path, player: NinjaPlayer, seconds: float = 40.0, seed: int = 0,
+         video: bool = False) -> dict:
+    source = ScriptedPlayer(player.timeline, 30.0, duration=seconds, noise=0.02, seed=seed)
+    opts = make_game_options(headless=True, out=tmp_path, progress=False, seed=seed,
+                             video=video)
+    run_game(NinjaGame(player=player), opts, source=source)
+    return json.loads((tmp_path / "summary.json").read_text())
+
+
+def test_fighter_wins_through_the_kit_with_every_motion_recognized_in_time(tmp_path):
+    s = _run(tmp_path, NinjaPlayer())
+    assert s["result"] == "won"
+    check = s["script_check"]
+    assert check["judged"] >= 8 and check["missed"] == [] and check["unexpected"] == []
+    assert all(-0.3 < m["latency"] < 0.6 for m in check["motions"])
+    assert {a["outcome"] for a in s["attacks"]} <= {"dodged", "pending"}
+
+
+def test_idle_player_loses_through_the_kit(tmp_path):
+    s = _run(tmp_path, NinjaPlayer(style="idle"))
+    assert s["result"] == "lost" and s["health"]["player"] == 0
+
+
+def test_same_seed_and_input_give_the_same_summary_through_the_kit(tmp_path):
+    a = _run(tmp_path / "a", NinjaPlayer(), seconds=12.0, seed=3)
+    b = _run(tmp_path / "b", NinjaPlayer(), seconds=12.0, seed=3)
+    for s in (a, b):
+        s.pop("timing"), s.pop("options", None), s.pop("video", None)
+    assert json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
+
+
+def test_scene_shows_both_fighters_the_attack_and_the_gesture_hud():
+    from apps.ninja.game.rules import NinjaRules
+
+    game = NinjaGame()
+    game.rules = NinjaRules(seed=0)
+    game.rules.on_gesture("transfigure", 1.0)
+    game.rules.on_gesture("hit", 2.0)
+    game._on_gesture(type("E", (), {"phase": "performed", "gesture": "hit", "t": 2.0,
+                                    "started_t": 1.5})())
+    game._now = 2.2
+    game.rules.update(2.2)
+
+    class Ctx:
+        pose = None
+        last_seen = None
+        session = type("S", (), {"gestures": ()})()
+
+    scene = Scene()
+    game.draw(Ctx(), scene)  # type: ignore[arg-type]
+    assert len(scene.capsules) >= 16  # the opponent's figure
+    assert len(scene.spheres) >= 14  # the fire ring in flight
+    lines = " | ".join(t.text for t in scene.texts)
+    assert "seen: hit" in lines and "NINJA" in lines and "OPPONENT" in lines
+
+
+def test_check_script_reports_missed_and_unexpected_gestures():
+    script = [{"gesture": "hit", "start": 1.0, "end": 1.8, "motion_end": 1.8},
+              {"gesture": "crouch", "start": 3.0, "end": 4.2, "motion_end": 3.4}]
+    seen = [{"gesture": "hit", "t": 1.7}, {"gesture": "double_hit", "t": 3.2}]
+    c = check_script(script, seen, until=10.0)
+    assert c["recognized"] == 1 and c["missed"] == ["crouch"]
+    assert [g["gesture"] for g in c["unexpected"]] == ["double_hit"]
+    assert c["motions"][0]["latency"] == pytest.approx(-0.1)
+
+
+def test_cli_rejects_a_missing_input_naming_the_virtual_default(tmp_path, capsys):
+    from apps.ninja.__main__ import main
+
+    code = main(["--input", str(tmp_path / "nope"), "--headless", "--out", str(tmp_path)])
+    assert code == 2
+    assert "--input virtual" in capsys.readouterr().err
