@@ -40,9 +40,9 @@ class ClothStep:
     ``lost``: the pose (or some joints) was missing and held; ``teleported``: the
     body jumped and was moved rigidly with its cloth; ``max_strain`` / ``mean_strain``:
     relative stretch error |l - l0| / l0 of the stretch constraints (the constraint
-    error); ``max_penetration`` / ``mean_penetration`` (m): depth of particles inside
-    the body capsules (their surface, not counting the thickness gap), over all and
-    over the particles inside; ``penetrating``: particles more than 1 mm inside;
+    error); ``max_penetration`` / ``mean_penetration`` (m): depth of free (unpinned)
+    particles inside the body capsules (their surface, not counting the thickness
+    gap), over all and over the particles inside; ``penetrating``: particles more than 1 mm inside;
     ``pin_error`` (m): largest distance of a pinned particle from where the tracked
     (not speed-limited) joints put it; ``kinetic_energy``, ``potential_energy`` (J,
     height above the floor); ``seconds``: wall time of the step.
@@ -212,7 +212,12 @@ class Cloth:
             dist = np.linalg.norm(delta, axis=1, keepdims=True)
             limit = self.options.max_joint_speed * dt
             scale = np.minimum(1.0, limit / np.maximum(dist, 1e-12))
-            nsub = self._advance(dt, self._driven + delta * scale)
+            limited = self._driven + delta * scale
+            if np.any(scale < 1.0):
+                # faster than a body moves: a tracking glitch; carry the cloth with the
+                # body's frame (no velocity gained) and simulate only the limbs' motion
+                self._teleport(limited)
+            nsub = self._advance(dt, limited)
         self._t += dt
         return self._result(dt, nsub, lost, teleported, target, t0)
 
@@ -340,6 +345,7 @@ class Cloth:
             caps = self.capsules()
             assert caps is not None
             pen = kernels.penetration(x, caps.a, caps.b, caps.radius)
+            pen[self._pins] = 0.0  # sewn to the body: a limb may pass through the seam
             inside = pen > 0.0
             max_pen = float(pen.max())
             mean_pen = float(pen[inside].mean()) if inside.any() else 0.0

@@ -267,8 +267,8 @@ def _substeps_impl(x, v, w, xp, ci, cj, rest, compliance, cstart,
         for i in prange(n):
             if w[i] == 0.0:
                 continue
-            for m in range(ncand[i]):
-                c = cand[i, m]
+            for m in range(2 * ncand[i]):  # twice: a push out of one may enter another
+                c = cand[i, m % ncand[i]]
                 pa0 = a0[c, 0] + al * (a1[c, 0] - a0[c, 0])
                 pa1 = a0[c, 1] + al * (a1[c, 1] - a0[c, 1])
                 pa2 = a0[c, 2] + al * (a1[c, 2] - a0[c, 2])

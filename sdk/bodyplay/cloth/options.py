@@ -39,9 +39,11 @@ class ClothOptions:
 
     Tracking glitches: the skeleton that drives the cloth follows the tracked joints
     with at most ``max_joint_speed`` (m/s) per joint, so a jump in the tracking is
-    crossed in a few steps instead of one; when the pelvis jumps by more than
-    ``teleport_distance`` (m) in one step the body and its cloth are moved rigidly to
-    the new place (no snap through the cloth). Joints that are lost (NaN, or ``None``
+    crossed in a few steps instead of one, and while it is, the cloth is carried
+    rigidly with the body's frame (a glitch gives the cloth no speed); when the pelvis
+    jumps by more than ``teleport_distance`` (m) in one step the body and its cloth
+    are moved rigidly to the new place (no snap through the cloth). Joints that are
+    lost (NaN, or ``None``
     for the whole pose) hold their last position while the cloth settles.
     ``dress_seconds``: on the first pose the garment, made for the rest pose, is
     moved to the body and the skeleton blends from the rest pose to the first pose
@@ -70,7 +72,7 @@ class ClothOptions:
     max_speed: float = 15.0
     body_height: float | None = None
     radius_scale: float = 1.0
-    max_joint_speed: float = 8.0
+    max_joint_speed: float = 5.0
     teleport_distance: float = 0.5
     dress_seconds: float = 0.6
     parallel: bool = False

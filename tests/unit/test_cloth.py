@@ -1,0 +1,248 @@
+"""Specifications of bodyplay.cloth: pins, collisions, energy, determinism, options."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.cloth import (
+    CAPSULE_NAMES,
+    Cloth,
+    ClothOptions,
+    Garment,
+    body_capsules,
+    body_frames,
+    cape,
+    garment,
+    kernels,
+    robe,
+    skirt,
+)
+from bodyplay.errors import ConfigError
+from bodyplay.motion import load_clip
+
+DT = 1.0 / 60.0
+
+
+@pytest.fixture(scope="module")
+def jacks() -> np.ndarray:
+    """Joints (T, 17, 3) of the real CMU 13_29 jumping jacks at 60 Hz (frame 0 dropped:
+    the file's first frame is a glitch)."""
+    return load_clip("13_29").resample(60).joints()[1:]
+
+
+def _run(cloth: Cloth, joints: np.ndarray) -> list:
+    return [cloth.step(DT, j) for j in joints]
+
+
+def test_garment_builders_make_a_few_thousand_particles_with_pins() -> None:
+    for build in (robe, cape, skirt):
+        g = build()
+        assert 2000 <= g.num_particles <= 4000, (g.name, g.num_particles)
+        assert len(g.pins) > 0
+        assert g.vertices.shape == (g.num_particles, 3)
+    assert garment("skirt", resolution=0.5).num_particles < skirt().num_particles
+
+
+def test_garment_rejects_unknown_names_and_bad_arrays() -> None:
+    with pytest.raises(ConfigError, match="robe"):
+        garment("kimono")
+    with pytest.raises(ConfigError, match="resolution"):
+        robe(resolution=0.0)
+    g = cape(resolution=0.3)
+    with pytest.raises(ConfigError, match="faces"):
+        Garment("bad", g.vertices, g.faces + len(g.vertices), g.pins, g.pin_frames, g.rest_joints)
+    with pytest.raises(ConfigError, match="pin"):
+        Garment("bad", g.vertices, g.faces, g.pins, g.pin_frames[:-1], g.rest_joints)
+
+
+@pytest.mark.parametrize("field,value", [
+    ("substep", 0.0), ("substep", float("nan")), ("gravity", (0.0, -9.8)),
+    ("wind", "east"), ("density", 0.0), ("stretch_compliance", -1.0), ("friction", 1.5),
+    ("thickness", -0.01), ("self_collision", 1), ("max_joint_speed", 0.0),
+    ("teleport_distance", float("inf")), ("body_height", 7.0), ("dress_seconds", -1.0),
+])
+def test_cloth_options_reject_bad_values_with_config_error(field: str, value: object) -> None:
+    with pytest.raises(ConfigError, match=field):
+        ClothOptions(**{field: value})
+
+
+def test_step_rejects_bad_dt_and_joint_shapes() -> None:
+    cloth = Cloth(skirt(resolution=0.3))
+    j = cloth.garment.rest_joints
+    for dt in (0.0, -DT, 1.0, float("nan")):
+        with pytest.raises(ConfigError, match="dt"):
+            cloth.step(dt, j)
+    with pytest.raises(ConfigError, match="17"):
+        cloth.step(DT, np.zeros((11, 3)))
+    with pytest.raises(ConfigError, match="inf"):
+        cloth.step(DT, np.full((17, 3), np.inf))
+    with pytest.raises(ConfigError, match="Garment"):
+        Cloth("robe")  # type: ignore[arg-type]
+
+
+def test_constraint_colours_never_share_a_particle() -> None:
+    cloth = Cloth(robe(resolution=0.5))
+    for c in range(cloth.num_colors):
+        a, b = cloth._cstart[c], cloth._cstart[c + 1]
+        used = np.concatenate([cloth._ci[a:b], cloth._cj[a:b]])
+        assert len(np.unique(used)) == len(used)
+    assert cloth.num_colors < 64
+
+
+def test_cloth_waits_for_a_pose_then_dresses_the_body(jacks: np.ndarray) -> None:
+    cloth = Cloth(skirt(resolution=0.5))
+    before = cloth.positions.copy()
+    r = cloth.step(DT, None)
+    assert not r.dressed and r.substeps == 0
+    assert np.array_equal(cloth.positions, before)
+    r = cloth.step(DT, jacks[0])
+    assert r.dressed and r.substeps > 0
+    assert r.pin_error < 1e-9
+
+
+def test_pinned_particles_follow_their_joints(jacks: np.ndarray) -> None:
+    for build in (robe, skirt):
+        cloth = Cloth(build(resolution=0.5), ClothOptions(max_joint_speed=1000.0))
+        g = cloth.garment
+        local = g.pin_offsets()
+        for j in jacks[:240:3]:
+            r = cloth.step(DT, j)
+            origins, rots = body_frames(j)
+            want = origins[g.pin_frames] + np.einsum("pij,pj->pi", rots[g.pin_frames], local)
+            assert np.max(np.abs(cloth.positions[g.pins] - want)) < 1e-9
+            assert r.pin_error < 1e-9
+
+
+def test_no_free_particle_ends_more_than_1cm_inside_a_capsule(jacks: np.ndarray) -> None:
+    for build in (robe, cape, skirt):
+        cloth = Cloth(build(resolution=0.6))
+        worst = 0.0
+        for j in jacks[:300]:
+            cloth.step(DT, j)
+            caps = cloth.capsules()
+            assert caps is not None
+            depth = caps.penetration(cloth.positions)
+            depth[cloth.garment.pins] = 0.0
+            worst = max(worst, float(depth.max()))
+        assert worst <= 0.01, (cloth.garment.name, worst)
+
+
+def test_capsules_cover_the_body_and_scale_with_height(jacks: np.ndarray) -> None:
+    caps = body_capsules(jacks[0], 1.75)
+    assert len(caps.radius) == len(CAPSULE_NAMES)
+    inside = caps.penetration(jacks[0][[0, 2, 4, 6, 12]])  # pelvis, chest, head, elbow, knee
+    assert np.all(inside > 0.03)
+    assert np.allclose(body_capsules(jacks[0], 2.0).radius, caps.radius * 2.0 / 1.75)
+
+
+def test_same_input_gives_identical_cloth(jacks: np.ndarray) -> None:
+    seq: list[np.ndarray | None] = list(jacks[:60])
+    lost = jacks[60].copy()
+    lost[7] = np.nan  # a lost wrist
+    seq += [lost, None, None, jacks[63] + [1.5, 0.0, 0.0], jacks[64] + [1.5, 0.0, 0.0]]
+    runs = []
+    for _ in range(2):
+        cloth = Cloth(robe(resolution=0.5), ClothOptions(wind=(2.0, 0.0, 1.0)))
+        results = [cloth.step(DT, j) for j in seq]
+        runs.append((cloth.positions.copy(), cloth.velocities.copy(), results))
+    assert np.array_equal(runs[0][0], runs[1][0])
+    assert np.array_equal(runs[0][1], runs[1][1])
+    assert [r.max_strain for r in runs[0][2]] == [r.max_strain for r in runs[1][2]]
+
+
+def test_lost_tracking_lets_the_cloth_settle(jacks: np.ndarray) -> None:
+    cloth = Cloth(cape(resolution=0.5))
+    _run(cloth, jacks[:90])
+    held = cloth.body_joints
+    moving = cloth.energy()[0]
+    results = [cloth.step(DT, None) for _ in range(180)]
+    assert all(r.lost for r in results)
+    assert np.array_equal(cloth.body_joints, held)
+    assert results[-1].kinetic_energy < 0.05 * max(moving, 1e-3)
+    assert results[-1].kinetic_energy < 1e-3
+
+
+def test_a_small_tracking_jump_is_crossed_at_the_joint_speed_limit(jacks: np.ndarray) -> None:
+    o = ClothOptions(max_joint_speed=4.0)
+    cloth = Cloth(skirt(resolution=0.5), o)
+    _run(cloth, [jacks[0]] * 30)
+    jumped = jacks[0] + np.array([0.3, 0.0, 0.0])
+    before = cloth.body_joints
+    r = cloth.step(DT, jumped)
+    assert not r.teleported
+    moved = np.linalg.norm(cloth.body_joints - before, axis=1)
+    assert np.all(moved <= o.max_joint_speed * DT + 1e-12)
+    assert r.pin_error > 0.2  # the cloth lags the jump instead of snapping
+    for _ in range(30):
+        r = cloth.step(DT, jumped)
+    assert r.pin_error < 1e-9
+    assert r.max_penetration <= 0.01
+
+
+def test_a_large_tracking_jump_moves_body_and_cloth_together(jacks: np.ndarray) -> None:
+    cloth = Cloth(robe(resolution=0.5))
+    _run(cloth, jacks[:60])
+    shift = np.array([2.0, 0.0, -1.0])
+    offset = cloth.positions - cloth.body_joints[0]
+    r = cloth.step(DT, jacks[60] + shift)
+    assert r.teleported
+    assert r.max_penetration <= 0.01
+    after = cloth.positions - cloth.body_joints[0]
+    assert np.median(np.linalg.norm(after - offset, axis=1)) < 0.05
+    assert r.kinetic_energy < 5.0
+
+
+LOOP_S = 8.0
+
+
+def _loop_energy(jacks: np.ndarray, loops: int, resolution: float) -> tuple[np.ndarray, float]:
+    """Kinetic energy (loops, steps) over ``loops`` passes of the first 8 s of jumping
+    jacks, looped (the end jumps back to the start: a tracking jump every loop), and the
+    cloth's mass."""
+    cloth = Cloth(skirt(resolution=resolution))
+    part = jacks[: int(LOOP_S / DT)]
+    ke = np.array([[cloth.step(DT, j).kinetic_energy for j in part] for _ in range(loops)])
+    assert np.all(np.isfinite(cloth.positions))
+    return ke, float(np.sum(cloth._mass))
+
+
+def _check_bounded(ke: np.ndarray, mass: float) -> None:
+    assert np.all(np.isfinite(ke))
+    # the body gives the cloth its energy: never faster (rms) than the speed limit of
+    # the driving joints (ClothOptions.max_joint_speed, 5 m/s)
+    assert ke.max() < 0.5 * mass * ClothOptions().max_joint_speed ** 2
+    # no growth: every pass through the same motion has about the same energy
+    means = ke.mean(axis=1)
+    assert np.all(means[1:] <= 1.5 * means[:2].max())
+
+
+def test_energy_stays_bounded_over_a_long_run(jacks: np.ndarray) -> None:
+    _check_bounded(*_loop_energy(jacks, 4, 0.4))  # 32 s
+
+
+@pytest.mark.slow
+def test_energy_stays_bounded_over_ten_minutes(jacks: np.ndarray) -> None:
+    _check_bounded(*_loop_energy(jacks, int(600 / LOOP_S), 1.0))
+
+
+def test_parallel_solver_gives_the_serial_result(jacks: np.ndarray) -> None:
+    out = []
+    for parallel in (False, True):
+        cloth = Cloth(cape(resolution=0.4), ClothOptions(parallel=parallel))
+        _run(cloth, jacks[:20])
+        out.append(cloth.positions.copy())
+    assert np.array_equal(out[0], out[1])
+
+
+def test_self_pairs_finds_close_particles_only_once() -> None:
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 0.2, (400, 3))
+    rest = x * 10.0  # far apart at rest: every close pair counts
+    pi, pj, ph = kernels.self_pairs(x, rest, 0.03, 0.01)
+    d = np.linalg.norm(x[:, None] - x[None], axis=2)
+    i, j = np.nonzero(np.triu(d < 0.03, k=1))
+    want = set(zip(i.tolist(), j.tolist(), strict=True))
+    got = list(zip(pi.tolist(), pj.tolist(), strict=True))
+    assert len(got) == len(set(got)) and set(got) == want
+    assert np.all(ph == 0.01)
