@@ -109,7 +109,7 @@ class NinjaGame(Game):
             self.player = NinjaPlayer(skel, style=self.player_style)  # type: ignore[arg-type]
         return VirtualPlayerSource(self.player, cameras=options.cameras, fps=options.video_fps,
                                    size=(options.width, options.height), seed=options.seed,
-                                   seconds=options.seconds)
+                                   seconds=options.seconds or 60.0)
 
     def setup(self, ctx: GameContext) -> None:
         """Fresh rules seeded from the run's generator; gestures feed them."""

@@ -28,7 +28,13 @@ from numpy.typing import NDArray
 from bodyplay.app.scene import Scene, TextItem
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
-from bodyplay.render.gl import GLContextError, create_context, gl_projection, gl_view
+from bodyplay.render.gl import (
+    GLContextError,
+    create_context,
+    gl_projection,
+    gl_view,
+    make_current,
+)
 from bodyplay.render.shaded import DEFAULT_LIGHTS, Light, vertex_normals
 
 __all__ = ["SceneRenderer", "draw_hud"]
@@ -416,6 +422,8 @@ class SceneRenderer:
         if self._released:
             raise GLContextError("this SceneRenderer was released; create a new one")
         c = self.ctx
+        if self._owns_ctx:
+            make_current(c)
         target = self._ms_fbo if self._ms_fbo is not None else self._fbo
         target.use()
         target.clear(*scene.sky, 1.0, depth=1.0)
@@ -501,6 +509,8 @@ class SceneRenderer:
 
     def read(self) -> NDArray[np.uint8]:
         """The last drawn picture as (H, W, 3) RGB uint8, top row first."""
+        if self._owns_ctx:
+            make_current(self.ctx)
         self._fbo.read_into(self._rgb, components=3, alignment=1)
         img = np.frombuffer(self._rgb, np.uint8).reshape(self.height, self.width, 3)
         return np.ascontiguousarray(img[::-1])

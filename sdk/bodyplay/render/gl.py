@@ -57,6 +57,16 @@ def create_context(headless: bool = True) -> moderngl.Context:
         ) from exc
 
 
+def make_current(ctx: moderngl.Context) -> None:
+    """Make a standalone context current on this thread before drawing with it.
+
+    Two standalone contexts in one thread (the synthetic camera's and a game's scene
+    renderer) must each be made current before use, or the driver draws with the
+    other one's objects (and crashes).
+    """
+    ctx.__enter__()
+
+
 # ---- camera matrices -----------------------------------------------------------------
 
 

@@ -24,7 +24,13 @@ from numpy.typing import ArrayLike, NDArray
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
 from bodyplay.render.accumulate import Accumulation, FloatAccumulator, mesh_window
-from bodyplay.render.gl import GLContextError, create_context, gl_projection, gl_view
+from bodyplay.render.gl import (
+    GLContextError,
+    create_context,
+    gl_projection,
+    gl_view,
+    make_current,
+)
 
 __all__ = [
     "DEFAULT_LIGHTS",
@@ -436,6 +442,8 @@ class ShadedRenderer:
         the frame; black when None. Up to 8 lights.
         """
         self._check_alive()
+        if self._owns_ctx:
+            make_current(self.ctx)
         if isinstance(meshes, RenderMesh):
             meshes = [meshes]
         if len(lights) > _MAX_LIGHTS:
@@ -472,6 +480,8 @@ class ShadedRenderer:
         once. Same shading and conventions as :meth:`render`.
         """
         self._check_alive()
+        if self._owns_ctx:
+            make_current(self.ctx)
         subs = [[m] if isinstance(m, RenderMesh) else list(m) for m in sub_frames]
         if not subs:
             raise ConfigError("accumulate needs at least one sub-frame")
@@ -501,6 +511,8 @@ class ShadedRenderer:
         rasterizer skips them, and clips at the far plane where it does not).
         """
         self._check_alive()
+        if self._owns_ctx:
+            make_current(self.ctx)
         v = np.asarray(vertices, dtype=np.float32)
         f = np.asarray(faces, dtype=np.int64)
         ids = np.asarray(face_ids)
