@@ -100,9 +100,8 @@ class NinjaGame(Game):
     def virtual_player(self, options: GameOptions) -> Any:
         """The virtual ninja filmed by the synthetic camera (or its joints for a
         pose-level run): the embedded default input."""
-        from bodyplay.virtual import VirtualPlayerSource
-
         from bodyplay.body.actor import load_actor
+        from bodyplay.virtual import VirtualPlayerSource
 
         if self.player is None:
             skel = load_actor(shape="m").skeleton
