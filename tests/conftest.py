@@ -89,3 +89,14 @@ def check_patches_and_views(patch_pixels):  # type: ignore[no-untyped-def]
                 assert px[twin] < 0.1 * px[pid], (eye, pid, twin, px)
 
     return check
+
+
+@pytest.fixture(scope="session")
+def silhouette_tree(tmp_path_factory):  # type: ignore[no-untyped-def]
+    """A tiny silhouette shape hierarchy (one short CMU clip, one body), built once
+    into a temporary cache."""
+    from bodyplay.trackers.silhouette import HierarchyOptions, load_or_build_tree
+
+    opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.05,
+                            bodies=("m",), thresholds=(0.06, 0.04, 0.03), max_poses=400)
+    return load_or_build_tree(opts, tmp_path_factory.mktemp("silhouette_cache"))

@@ -29,7 +29,9 @@ def register(subparsers: Any) -> None:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--tracker", default="colorshirt", help="tracker name (default colorshirt)")
-    p.add_argument("--input", required=True, help="capture folder with calib.json")
+    p.add_argument("--input", required=True,
+                   help="capture folder with calib.json, or a video / webcam index with --calib")
+    p.add_argument("--calib", help="calib.json whose first camera a video or webcam input uses")
     p.add_argument("--out", required=True, help="poses.jsonl to write")
     p.add_argument("--cameras", type=int, help="use only the first N cameras")
     p.add_argument("--frames", type=int, help="stop after N frame sets")
@@ -86,6 +88,7 @@ def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
     from bodyplay.body.shirt import SHIRT_COLORS
 
     out = image.copy()
+    _draw_silhouette(out, result)
     pal = np.zeros((256, 3), np.uint8)
     pal[1 : len(SHIRT_COLORS) + 1] = [c.rgb for c in SHIRT_COLORS]
     for idx, window, ids in result.extras.get("classified", []):
@@ -125,11 +128,32 @@ def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
     return out
 
 
+def _draw_silhouette(out: NDArray[np.uint8], result: Any) -> None:
+    """The silhouette tracker's observed silhouette (tinted) and chosen template
+    (outlined), drawn in place."""
+    sil = result.extras.get("silhouette")
+    if sil is None:
+        return
+    h, w = out.shape[:2]
+    big = cv2.resize(np.asarray(sil, np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+    out[big] = (0.55 * out[big] + 0.45 * np.array([60, 200, 90])).astype(np.uint8)
+    tpl = result.extras.get("template")
+    if tpl is not None:
+        t = cv2.resize(np.asarray(tpl, np.uint8), (w, h), interpolation=cv2.INTER_NEAREST)
+        contours, _ = cv2.findContours(t, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        cv2.drawContours(out, contours, -1, (255, 80, 60), 2, cv2.LINE_AA)
+
+
 def run(args: argparse.Namespace) -> int:
     """Track every frame set, write poses.jsonl (and the overlay); print a summary."""
     from bodyplay.capture.sources import open_source
 
-    src = open_source(args.input)
+    camera = None
+    if getattr(args, "calib", None):
+        from bodyplay.capture.camera import read_calib
+
+        camera = read_calib(args.calib)[0]
+    src = open_source(args.input, camera=camera)
     if src.cameras is None:
         raise ConfigError(f"{args.input}: no calib.json; the tracker needs calibrated cameras")
     cams = tuple(src.cameras[: args.cameras] if args.cameras else src.cameras)

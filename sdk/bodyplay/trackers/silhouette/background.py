@@ -1,0 +1,197 @@
+"""Background subtraction on intensity-normalized colour with per-pixel Gaussians.
+
+The paper (section 2.2): colour values normalized by their intensity, one Gaussian
+per pixel, foreground where the Mahalanobis distance exceeds a threshold, an
+adaptive model for slow changes. Here each pixel holds the mean and variance of
+three channels, the chromaticities r = R/(R+G+B), g = G/(R+G+B) and the intensity
+(weighted down, so that shadows and light changes matter less than hue).
+
+The player is usually in view from the first frame, so there is no empty room to
+learn from. The model is a running one:
+
+* every pixel starts *unknown*, its mean the first frame's value;
+* a pixel that has stayed still for ``learn_after`` frames and is not where the
+  player is (the tracker passes its estimated body, dilated, as ``protect``;
+  before the first estimate, the neighbourhood of anything that moved) is learned:
+  its mean becomes the current value and it becomes *known* -- this is how the
+  pixels the player uncovers get learned, and how the first frame's copy of the
+  player (a "ghost") is forgotten;
+* known background pixels adapt with rate ``rate`` (slow light changes); a known
+  pixel that differs from its model is something in front of the background (the
+  player standing still, most often) and is learned only after ``relearn_after``
+  still frames (a moved chair, a light switched on).
+
+Each frame gives three sets: foreground (differs from its model), known background
+and unknown (still, never confirmed). The distance of :mod:`.distance` treats
+unknown pixels as "don't care". An empty-room start simply makes every pixel
+known after ``learn_after`` frames.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.errors import CaptureError
+from bodyplay.trackers.silhouette.options import BackgroundOptions
+
+__all__ = ["BackgroundModel", "Silhouette", "normalized_color"]
+
+
+def normalized_color(image: NDArray[np.uint8]) -> NDArray[np.float32]:
+    """(H, W, 3) RGB -> (H, W, 3) chromaticities r, g and intensity in 0..1."""
+    f = image.astype(np.float32)
+    s = f.sum(axis=2)
+    inv = 1.0 / (s + 30.0)  # the offset keeps dark pixels' chromaticity from exploding
+    out = np.empty(f.shape, np.float32)
+    out[..., 0] = f[..., 0] * inv
+    out[..., 1] = f[..., 1] * inv
+    out[..., 2] = s * np.float32(1.0 / 765.0)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Silhouette:
+    """One frame's segmentation at the model's working resolution.
+
+    ``foreground``: uint8 0/1 after clean-up; ``unknown``: uint8 0/1 pixels never
+    confirmed as background that show nothing new; ``scale``: working size over
+    the camera image size.
+    """
+
+    foreground: NDArray[np.uint8]
+    unknown: NDArray[np.uint8]
+    scale: float
+
+    @property
+    def area(self) -> float:
+        """Share of the image that is foreground."""
+        return float(self.foreground.mean())
+
+
+@numba.njit(cache=True, nogil=True)
+def _classify(x, mean, var, prev, still, wi, thr2, move2, differs, moved):  # type: ignore[no-untyped-def]  # pragma: no cover
+    h, w = still.shape
+    for i in range(h):
+        for j in range(w):
+            d2 = 0.0
+            m2 = 0.0
+            for c in range(3):
+                wc = wi if c == 2 else 1.0
+                e = x[i, j, c] - mean[i, j, c]
+                d2 += wc * e * e / var[i, j, c]
+                f = x[i, j, c] - prev[i, j, c]
+                m2 += wc * f * f
+            differs[i, j] = 1 if d2 > thr2 else 0
+            if m2 > move2:
+                moved[i, j] = 1
+                still[i, j] = 0
+            else:
+                still[i, j] += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _learn(x, mean, var, still, known, differs, protect, learn_after, relearn_after, rate,  # type: ignore[no-untyped-def]  # pragma: no cover
+           var0):
+    h, w = still.shape
+    for i in range(h):
+        for j in range(w):
+            if protect[i, j]:
+                continue
+            if (still[i, j] >= learn_after and not known[i, j]) or (
+                    differs[i, j] and still[i, j] >= relearn_after):
+                for c in range(3):
+                    mean[i, j, c] = x[i, j, c]
+                    var[i, j, c] = var0
+                known[i, j] = True
+            elif known[i, j] and not differs[i, j]:
+                for c in range(3):
+                    e = x[i, j, c] - mean[i, j, c]
+                    mean[i, j, c] += rate * e
+                    var[i, j, c] = max((1 - rate) * var[i, j, c] + rate * e * e, var0)
+
+
+class BackgroundModel:
+    """The running per-pixel Gaussian background model (see the module docstring)."""
+
+    def __init__(self, options: BackgroundOptions | None = None) -> None:
+        self.options = options or BackgroundOptions()
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget everything learned."""
+        self._mean: NDArray[np.float32] | None = None
+        self._var: NDArray[np.float32] | None = None
+        self._prev: NDArray[np.float32] | None = None
+        self._still: NDArray[np.int32] | None = None
+        self.known: NDArray[np.bool_] | None = None
+
+    def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
+        if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+            raise CaptureError(f"background model needs (H, W, 3) uint8 RGB frames, got "
+                               f"{image.shape} {image.dtype}")
+        s = self.options.scale
+        if s != 1.0:
+            h, w = image.shape[:2]
+            image = np.asarray(cv2.resize(image, (max(1, int(round(w * s))),
+                                                  max(1, int(round(h * s)))),
+                                          interpolation=cv2.INTER_AREA), np.uint8)
+        return normalized_color(image)
+
+    def apply(self, image: NDArray[np.uint8],
+              protect: NDArray[np.bool_] | None = None) -> Silhouette:
+        """Segment one frame and update the model.
+
+        ``protect`` (working resolution, True where the player is believed to be)
+        keeps those pixels from being learned; None before the tracker has an
+        estimate.
+        """
+        o = self.options
+        x = self._prepare(image)
+        if self._mean is None or self._mean.shape != x.shape:
+            self._mean = x.copy()
+            self._var = np.full(x.shape, o.min_std**2, np.float32)
+            self._prev = x.copy()
+            self._still = np.zeros(x.shape[:2], np.int32)
+            self.known = np.zeros(x.shape[:2], bool)
+        assert self._var is not None and self._prev is not None and self._still is not None
+        assert self.known is not None
+        differs = np.zeros(x.shape[:2], np.uint8)
+        moved = np.zeros(x.shape[:2], np.uint8)
+        _classify(x, self._mean, self._var, self._prev, self._still,
+                  np.float32(o.intensity_weight**2), np.float32(o.threshold**2),
+                  np.float32((2.5 * o.min_std) ** 2 * 3.0), differs, moved)
+        self._prev = x
+        fg = self._clean(differs)
+        if protect is None:
+            r = max(3, int(0.1 * x.shape[0]))
+            protect = cv2.dilate(moved,
+                                 cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
+                                 ) > 0
+        elif protect.shape != fg.shape:
+            raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
+                               f"{fg.shape[::-1]}")
+        _learn(x, self._mean, self._var, self._still, self.known, differs,
+               np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
+               np.float32(o.min_std**2))
+        unknown = (~self.known & (fg == 0)).astype(np.uint8)
+        return Silhouette(fg, unknown, x.shape[1] / image.shape[1])
+
+    def _clean(self, fg: NDArray[np.uint8]) -> NDArray[np.uint8]:
+        o = self.options
+        if o.open_px:
+            k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * o.open_px + 1,) * 2)
+            fg = np.asarray(cv2.morphologyEx(fg, cv2.MORPH_OPEN, k), np.uint8)
+        if o.close_px:
+            k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * o.close_px + 1,) * 2)
+            fg = np.asarray(cv2.morphologyEx(fg, cv2.MORPH_CLOSE, k), np.uint8)
+        n, lab, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
+        if n <= 1:
+            return fg
+        keep = stats[:, cv2.CC_STAT_AREA] >= o.min_area * fg.size
+        keep[0] = False
+        return keep[lab].astype(np.uint8)

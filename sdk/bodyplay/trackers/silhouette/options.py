@@ -1,0 +1,139 @@
+"""Options of the silhouette tracker and of its shape hierarchy (frozen, validated)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from bodyplay.errors import ConfigError
+
+__all__ = ["BackgroundOptions", "HierarchyOptions", "SilhouetteOptions", "LEVEL_SIZES"]
+
+LEVEL_SIZES: tuple[tuple[int, int], ...] = ((60, 80), (120, 160), (240, 320))
+"""(width, height) of the matching window at tree levels 1..3: the paper's pyramid
+80x60 / 160x120 / 320x240 in pixel count, turned upright around the person."""
+
+
+@dataclass(frozen=True)
+class BackgroundOptions:
+    """The per-pixel Gaussian background model (paper section 2.2, last paragraph).
+
+    ``threshold`` is the Mahalanobis distance above which a pixel is foreground;
+    ``intensity_weight`` scales the intensity channel against the two
+    intensity-normalized chromaticities (small: shadows change intensity, not hue);
+    ``learn_after`` is how many frames a pixel must stay still (and away from the
+    player) before its value is learned as background, ``relearn_after`` the same
+    for a pixel already learned that now differs; ``rate`` the adaptation rate
+    of learned background pixels (slow light changes); ``min_std`` the noise floor;
+    ``open_px``/``close_px`` the morphological clean-up; ``min_area`` the smallest
+    blob share of the image kept.
+    """
+
+    threshold: float = 4.0
+    intensity_weight: float = 0.35
+    learn_after: int = 12
+    relearn_after: int = 90
+    rate: float = 0.02
+    min_std: float = 0.012
+    open_px: int = 1
+    close_px: int = 2
+    min_area: float = 0.002
+    scale: float = 0.5
+
+    def __post_init__(self) -> None:
+        if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
+            raise ConfigError("background threshold and min_std must be > 0, rate in (0, 1)")
+        if self.learn_after < 1 or self.relearn_after < self.learn_after:
+            raise ConfigError("background learn_after must be at least 1 frame and "
+                              "relearn_after at least learn_after")
+        if not 0.1 <= self.scale <= 1.0:
+            raise ConfigError("background scale must be within 0.1..1")
+
+
+@dataclass(frozen=True)
+class HierarchyOptions:
+    """What the shape hierarchy is built from (everything here enters its cache key).
+
+    ``clips``: motion clips (built-in names or BVH paths; default the vendored CMU
+    clips); ``clip_fps`` the rate they are read at (the tracker's frame rate, for
+    the transition histograms); ``yaw_offsets_deg``: each clip is also turned by
+    these yaws relative to facing the camera; ``dedup_deg`` the paper's 5-degree
+    rule; ``random_share``: joint-limit-aware random poses added, as a share of the
+    clip poses; ``thresholds``: Algorithm 1's t_L per level (normalized
+    core-weighted XOR distance at that level's resolution); ``bodies``: body-size
+    presets templates are rendered for; ``metres_per_px``: window scale at level 3;
+    ``camera_height``/``camera_distance``: the canonical view templates are
+    rendered from.
+    """
+
+    clips: tuple[str, ...] = ()
+    clip_fps: float = 30.0
+    yaw_offsets_deg: tuple[float, ...] = (-35.0, 0.0, 35.0)
+    max_yaw_deg: float = 80.0
+    dedup_deg: float = 5.0
+    random_share: float = 0.15
+    thresholds: tuple[float, float, float] = (0.04, 0.028, 0.022)
+    bodies: tuple[str, ...] = ("xs", "s", "m", "l", "xl")
+    metres_per_px: float = 0.009
+    camera_height: float = 1.2
+    camera_distance: float = 3.0
+    max_poses: int = 12_000
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if len(self.thresholds) != 3 or any(t <= 0 for t in self.thresholds):
+            raise ConfigError("thresholds must be three positive distances (levels 1..3)")
+        if not self.bodies:
+            raise ConfigError("the hierarchy needs at least one body preset")
+        if self.dedup_deg <= 0 or self.clip_fps <= 0 or self.max_poses < 10:
+            raise ConfigError("dedup_deg and clip_fps must be > 0, max_poses >= 10")
+        if not 0 <= self.random_share <= 2:
+            raise ConfigError("random_share must be within 0..2")
+
+    def key_items(self) -> list[tuple[str, object]]:
+        """The options as sorted (name, value) pairs, for the cache key."""
+        return sorted(asdict(self).items())
+
+
+@dataclass(frozen=True)
+class SilhouetteOptions:
+    """Options of the silhouette tracker (see docs/silhouette.md).
+
+    ``body``: a body preset or ``"auto"`` (chosen on the first ``select_frames``
+    frames with a person); ``sigma``: likelihood scale per level relative to that
+    level's clustering threshold; ``keep``: posterior share (of the best node)
+    below which a subtree is pruned, ``max_expand`` the most nodes expanded per
+    level; ``occlusion_m``: eq. 14's m; ``transition_weight``: share of the
+    prediction from the training transition histograms (the rest from the
+    first-order Gaussian model, eq. 13-14); ``uniform``: prior mass spread over all
+    leaves (recovery after failure); ``lost_after``: seconds without a person
+    before every joint is reported lost (before, the prediction is reported
+    ``inferred``); ``depth_window``: seconds over which the nearest floor distance
+    is kept (jumps lift the feet); ``smooth``: share of the previous joints kept
+    (exponential smoothing of the discrete templates); ``cache``: hierarchy cache folder.
+    """
+
+    body: str = "auto"
+    hierarchy: HierarchyOptions = field(default_factory=HierarchyOptions)
+    background: BackgroundOptions = field(default_factory=BackgroundOptions)
+    sigma: float = 0.25
+    keep: float = 0.02
+    max_expand: tuple[int, int] = (24, 48)
+    occlusion_m: float = 5.0
+    transition_weight: float = 0.5
+    uniform: float = 0.02
+    select_frames: int = 8
+    min_height: float = 0.9
+    lost_after: float = 0.5
+    depth_window: float = 0.4
+    smooth: float = 0.5
+    cache: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.sigma <= 0 or self.occlusion_m < 1:
+            raise ConfigError("sigma must be > 0 and occlusion_m >= 1")
+        if not 0 <= self.transition_weight <= 1 or not 0 < self.uniform < 1:
+            raise ConfigError("transition_weight must be in 0..1 and uniform in (0, 1)")
+        if not 0 < self.keep < 1 or min(self.max_expand) < 1:
+            raise ConfigError("keep must be in (0, 1) and max_expand at least 1")
+        if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:
+            raise ConfigError("select_frames >= 1, lost_after >= 0 and smooth in [0, 1)")

@@ -1,0 +1,251 @@
+"""The silhouette tracker: one camera, ordinary clothes (papers/single-camera-silhouette-mocap.txt).
+
+Per frame: undistort -> background subtraction (:mod:`.background`) -> the floor
+point G and the window (:mod:`.window`) -> distance transforms at the three levels
+(:mod:`.distance`) -> tree-based Bayesian filter over the shape hierarchy
+(:mod:`.treefilter`) -> the MAP leaf's pose, placed at G and turned by the line of
+sight. The estimated body, dilated, keeps the background model from learning the
+player. Body size: the first ``select_frames`` frames with a person run a filter
+per body preset; the one with the smallest mean distance is kept.
+
+Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
+chosen template, ``inferred`` when the template has it occluded or when the person
+has vanished for less than ``lost_after`` seconds (the issue's "predicted"),
+``lost`` otherwise.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
+from bodyplay.body.skeleton import Skeleton
+from bodyplay.capture.camera import Camera
+from bodyplay.capture.frames import FrameSet
+from bodyplay.errors import TimestampError
+from bodyplay.trackers.base import (
+    JointState,
+    TrackerCapabilities,
+    TrackResult,
+    check_frame_set,
+    lost_result,
+)
+from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
+from bodyplay.trackers.silhouette.distance import distance_maps
+from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
+from bodyplay.trackers.silhouette.options import SilhouetteOptions
+from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
+from bodyplay.trackers.silhouette.window import ObservedWindow, _homography, observe
+
+__all__ = ["SilhouetteTracker"]
+
+_JOINT_PART = np.zeros(NUM_JOINTS, np.int64)
+for _p, _names in enumerate(PART_JOINTS):
+    for _n in _names:
+        _JOINT_PART[JOINT_INDEX[_n]] = _p
+
+
+@dataclass
+class _Last:
+    joints: NDArray[np.float64]
+    pose: NDArray[np.float64]
+    t: float
+    template: NDArray[np.uint8] | None = None
+    protect: NDArray[np.bool_] | None = None
+    extras: dict[str, object] = field(default_factory=dict)
+
+
+class SilhouetteTracker:
+    """Implements :class:`bodyplay.trackers.base.Tracker` (build with
+    :func:`bodyplay.trackers.silhouette.create_silhouette_tracker`)."""
+
+    name = "silhouette"
+    capabilities = TrackerCapabilities(min_cameras=1, max_cameras=1)
+
+    def __init__(self, options: SilhouetteOptions, cameras: tuple[Camera, ...],
+                 tree: ShapeTree) -> None:
+        self.options = options
+        self.cameras = cameras
+        self.tree = tree
+        self.geometry = geometry_of(tree.options)
+        self._maps = cameras[0].undistort_maps()
+        self._cam = cameras[0]
+        self._template_R = self.geometry.template_view(2).R
+        self.reset()
+
+    @property
+    def body_name(self) -> str | None:
+        """The body preset in use (None while it is being chosen)."""
+        return self._body
+
+    def reset(self) -> None:
+        """Forget the background, the posterior, the body choice and the last pose."""
+        self.background = BackgroundModel(self.options.background)
+        want = self.options.body
+        names = list(self.tree.bodies) if want == "auto" else [want]
+        self._filters = {b: TreeFilter(self.tree, self.tree.bodies[b], self.options)
+                         for b in names}
+        self._body: str | None = names[0] if len(names) == 1 else None
+        self._scores: dict[str, list[float]] = {b: [] for b in names}
+        self._last: _Last | None = None
+        self._t: float | None = None
+        self._bad = 0
+        self._depths: list[tuple[float, float]] = []
+        self._skeletons = {b: Skeleton.from_shape(b) for b in names}
+
+    # ---- the pipeline -------------------------------------------------------------
+    def process(self, frames: FrameSet) -> TrackResult:
+        """Estimate the pose for one frame set (one camera)."""
+        t0 = time.perf_counter()
+        check_frame_set(frames, self.cameras)
+        if self._t is not None and frames.t <= self._t:
+            raise TimestampError(f"frame set t={frames.t} is not after the previous t={self._t}")
+        self._t = frames.t
+        image = frames[0].image
+        if self._maps is not None:
+            image = np.asarray(cv2.remap(image, self._maps[0], self._maps[1], cv2.INTER_LINEAR),
+                               np.uint8)
+        stages: dict[str, float] = {}
+        tic = time.perf_counter()
+        protect = self._last.protect if self._last is not None else None
+        sil = self.background.apply(image, protect)
+        stages["background"] = time.perf_counter() - tic
+        tic = time.perf_counter()
+        keep_for = self.options.depth_window
+        self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
+        cap = min((d for _, d in self._depths), default=None)
+        win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
+        if win is not None:
+            self._depths.append((frames.t, win.distance))
+        if win is None or not self._plausible(win):
+            stages["window"] = time.perf_counter() - tic
+            return self._absent(frames, sil, t0, stages)
+        maps = tuple(distance_maps(win.foreground[lv], win.unknown[lv]) for lv in range(3))
+        stages["distances"] = time.perf_counter() - tic
+        tic = time.perf_counter()
+        step = self._filter_step(maps)  # type: ignore[arg-type]
+        stages["tree"] = time.perf_counter() - tic
+        if step.distance > 4.0 * self.tree.options.thresholds[2]:
+            self._bad += 1
+            if self._bad >= 5:  # recovery: start over from the initial prior
+                for f in self._filters.values():
+                    f.reset()
+                self._bad = 0
+        else:
+            self._bad = 0
+        tic = time.perf_counter()
+        result = self._result(frames, step, win, sil, t0)
+        stages["output"] = time.perf_counter() - tic
+        result.extras["stages"] = stages
+        return result
+
+    def _plausible(self, win: ObservedWindow) -> bool:
+        """A person: at least ``min_height`` tall and not wider than the window."""
+        fg = win.foreground[0]
+        rows = np.flatnonzero(fg.any(axis=1))
+        if rows.size == 0:
+            return False
+        tall = (rows[-1] - rows[0] + 1) * self.geometry.mpp(0)
+        cols = np.flatnonzero(fg.any(axis=0))
+        wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
+        return bool(tall >= self.options.min_height and wide < 0.97)
+
+    def _filter_step(self, maps: tuple[object, ...]) -> FilterStep:
+        if self._body is not None:
+            return self._filters[self._body].step(maps)  # type: ignore[arg-type]
+        steps = {}
+        for b, f in self._filters.items():
+            steps[b] = f.step(maps)  # type: ignore[arg-type]
+            self._scores[b].append(steps[b].distance)
+        n = len(next(iter(self._scores.values())))
+        best = min(self._scores, key=lambda b: float(np.mean(self._scores[b])))
+        if n >= self.options.select_frames:
+            self._body = best
+            self._filters = {best: self._filters[best]}
+            self._skeletons = {best: self._skeletons[best]}
+        return steps[best]
+
+    def _current_body(self) -> str:
+        if self._body is not None:
+            return self._body
+        return min(self._scores, key=lambda b: float(np.mean(self._scores[b] or [np.inf])))
+
+    def _result(self, frames: FrameSet, step: FilterStep, win: ObservedWindow, sil: Silhouette,
+                t0: float) -> TrackResult:
+        body = self._current_body()
+        tree = self.tree
+        sk = self._skeletons[body]
+        bt = tree.bodies[body]
+        R_align = win.views[2].R.T @ self._template_R
+        ratio = sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
+        # joints: the few best leaves blended by posterior (the MAP leaf's pose vector)
+        leaves = step.top[step.weights >= 0.2 * step.weights[0]]
+        w = step.weights[: len(leaves)] / step.weights[: len(leaves)].sum()
+        joints = np.zeros((NUM_JOINTS, 3))
+        pose = np.zeros(sk.pose_dim)
+        for k, (leaf, wk) in enumerate(zip(leaves, w, strict=True)):
+            q = tree.poses[tree.node_pose[2][leaf]].copy()
+            q[1] *= ratio
+            J = sk.joint_positions(q) - q[0:3] + bt.offset[leaf]
+            joints += wk * (J @ R_align.T + win.ground)
+            if k == 0:
+                pose = q.copy()
+                pose[0:3] = R_align @ bt.offset[leaf] + win.ground
+                pose[3:6] = (Rotation.from_matrix(R_align) * Rotation.from_rotvec(q[3:6])
+                             ).as_rotvec()
+        if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
+            a = self.options.smooth
+            joints = a * self._last.joints + (1 - a) * joints
+        occl = tree.occluded[step.leaf]
+        states: tuple[JointState, ...] = tuple(
+            "inferred" if occl[_JOINT_PART[j]] else "tracked" for j in range(NUM_JOINTS))
+        template, protect = self._back_project(bt, step.leaf, win, sil)
+        extras: dict[str, object] = {
+            "silhouette": sil.foreground, "unknown": sil.unknown, "template": template,
+            "silhouette_scale": sil.scale, "leaf": step.leaf, "distance": step.distance,
+            "evaluations": step.evaluations, "body": body, "ground": win.ground,
+        }
+        self._last = _Last(joints, pose, frames.t, template, protect, extras)
+        conf = np.where(np.array([s == "tracked" for s in states]), 1.0, 0.5)
+        conf *= float(np.exp(-step.distance / (4.0 * tree.options.thresholds[2])))
+        return TrackResult(frames.index, frames.t, joints, states, conf,
+                           (time.perf_counter() - t0) * 1000.0, pose, extras)
+
+    def _back_project(self, bt: object, leaf: int, win: ObservedWindow, sil: Silhouette
+                      ) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
+        """The chosen template in working-image pixels, and it dilated (the pixels the
+        background model must not learn)."""
+        runs = bt.runs[2]  # type: ignore[attr-defined]
+        mask = runs.masks(np.array([leaf]))[0]
+        H = _homography(self._cam, win.views[2], sil.scale)
+        h, w = sil.foreground.shape
+        back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H), (w, h),
+                                   flags=cv2.INTER_LINEAR) >= 128
+        r = max(2, int(0.04 * h))
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+        protect = cv2.dilate(back.astype(np.uint8), k) > 0
+        return back.astype(np.uint8), protect
+
+    def _absent(self, frames: FrameSet, sil: Silhouette, t0: float,
+                stages: dict[str, float]) -> TrackResult:
+        """No person in view: the last pose as ``inferred`` for ``lost_after`` s, then lost."""
+        last = self._last
+        ms = (time.perf_counter() - t0) * 1000.0
+        if last is not None and frames.t - last.t <= self.options.lost_after:
+            inferred: JointState = "inferred"
+            res = TrackResult(frames.index, frames.t, last.joints.copy(),
+                              (inferred,) * NUM_JOINTS, np.full(NUM_JOINTS, 0.2), ms,
+                              last.pose.copy(),
+                              {"silhouette": sil.foreground, "unknown": sil.unknown,
+                               "silhouette_scale": sil.scale, "stages": stages})
+            return res
+        res = lost_result(frames.index, frames.t, ms)
+        res.extras.update({"silhouette": sil.foreground, "unknown": sil.unknown,
+                           "silhouette_scale": sil.scale, "stages": stages})
+        return res

@@ -1,0 +1,181 @@
+"""The matching window: a level virtual camera looking at the player's floor point.
+
+Templates and observations are compared in the same upright window (the sizes of
+:data:`~.options.LEVEL_SIZES`). The window is the image of a *virtual camera* that
+shares the real camera's centre but looks horizontally at the player's floor point
+G, with a focal length chosen so that a fixed number of metres spans a pixel
+there (``metres_per_px`` at level 3), G on the window's middle column and the floor
+under G on a fixed row. The real image maps into it by one homography (a pure
+rotation about the camera centre plus a change of intrinsics), so the person
+appears at the same scale and place whatever their distance, world verticals stay
+vertical and the body's yaw relative to the line of sight is what the templates
+encode. Templates are rendered from the same kind of camera, placed at the
+canonical height and distance (:class:`WindowGeometry`).
+
+G itself comes from the silhouette and the calibration: the floor point under
+the torso (the silhouette's thickest part) at the silhouette's lowest row,
+refined once in the window (feet on the floor).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.capture.camera import Camera
+from bodyplay.trackers.silhouette.options import LEVEL_SIZES
+
+__all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow"]
+
+_DOWN = np.array([0.0, -1.0, 0.0])
+
+
+def anchor_point(mask: NDArray[np.uint8]) -> tuple[float, float] | None:
+    """(column, row) of the torso's floor contact in a mask: the centroid column of
+    the thickest part (inner distance >= 70% of its maximum) and the lowest row."""
+    m = (np.asarray(mask) > 0).astype(np.uint8)
+    rows = np.flatnonzero(m.any(axis=1))
+    if rows.size == 0:
+        return None
+    d = cv2.distanceTransform(m, cv2.DIST_L2, 3)
+    core = d >= 0.7 * float(d.max())
+    xs = np.nonzero(core)[1]
+    return float(xs.mean()), float(rows[-1])
+
+
+def floor_point(camera: Camera, u: float, v: float) -> NDArray[np.float64] | None:
+    """Where the ray through pinhole pixel (u, v) meets the floor Y = 0 (None if never)."""
+    ray = camera.R.T @ np.linalg.solve(camera.K, np.array([u, v, 1.0]))
+    c = camera.center
+    if ray[1] >= -1e-9 or c[1] <= 0:
+        return None
+    return c + (-c[1] / ray[1]) * ray
+
+
+@dataclass(frozen=True)
+class WindowGeometry:
+    """Scale and placement of the window, and the canonical template view."""
+
+    metres_per_px: float = 0.009
+    floor_margin: float = 0.12
+    camera_height: float = 1.2
+    camera_distance: float = 3.0
+
+    def size(self, level: int) -> tuple[int, int]:
+        """(width, height) of the window at tree level 0, 1 or 2."""
+        return LEVEL_SIZES[level]
+
+    def mpp(self, level: int) -> float:
+        """Metres per pixel at the floor point at ``level``."""
+        return self.metres_per_px * LEVEL_SIZES[-1][0] / LEVEL_SIZES[level][0]
+
+    def floor_row(self, level: int) -> float:
+        """Row of the floor under G at ``level``."""
+        h = LEVEL_SIZES[level][1]
+        return (h - 0.5) - self.floor_margin / self.mpp(level)
+
+    def view(self, center: NDArray[np.float64], ground: NDArray[np.float64],
+             level: int) -> Camera:
+        """The virtual camera at ``center`` looking level at floor point ``ground``."""
+        c = np.asarray(center, np.float64)
+        g = np.asarray(ground, np.float64)
+        f = g - c
+        f[1] = 0.0
+        d = float(np.linalg.norm(f))
+        f = f / max(d, 1e-9)
+        right = np.cross(_DOWN, f)
+        R = np.stack([right, _DOWN, f])
+        w, h = LEVEL_SIZES[level]
+        mpp = self.mpp(level)
+        fw = max(d, 1e-6) / mpp
+        cy = self.floor_row(level) - c[1] / mpp
+        K = np.array([[fw, 0.0, (w - 1) / 2.0], [0.0, fw, cy], [0.0, 0.0, 1.0]])
+        return Camera("window", w, h, K, R, -R @ c)
+
+    def template_view(self, level: int) -> Camera:
+        """The canonical view templates are rendered from (floor point at the origin)."""
+        return self.view(np.array([0.0, self.camera_height, self.camera_distance]),
+                         np.zeros(3), level)
+
+
+@dataclass(frozen=True, eq=False)
+class ObservedWindow:
+    """An observed silhouette resampled into the window at every level.
+
+    ``foreground``/``unknown``: per level uint8 masks; ``ground``: the floor point G
+    (world); ``views``: the virtual camera per level; ``distance``: G's horizontal
+    distance from the camera as the silhouette's lowest row gave it (before any cap).
+    """
+
+    foreground: tuple[NDArray[np.uint8], ...]
+    unknown: tuple[NDArray[np.uint8], ...]
+    ground: NDArray[np.float64]
+    views: tuple[Camera, ...]
+    distance: float
+
+
+def _homography(real: Camera, view: Camera, scale: float) -> NDArray[np.float64]:
+    """Working-image pixels (real image scaled by ``scale``) -> window pixels."""
+    S = np.array([[scale, 0.0, 0.5 * scale - 0.5], [0.0, scale, 0.5 * scale - 0.5], [0, 0, 1.0]])
+    H = view.K @ view.R @ real.R.T @ np.linalg.inv(real.K) @ np.linalg.inv(S)
+    return H / H[2, 2]
+
+
+def _warp(mask: NDArray[np.uint8], H: NDArray[np.float64], size: tuple[int, int]
+          ) -> NDArray[np.uint8]:
+    out = cv2.warpPerspective(mask * np.uint8(255), H, size, flags=cv2.INTER_LINEAR,
+                              borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    return (out >= 128).astype(np.uint8)
+
+
+def _down(mask: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.uint8]:
+    return (cv2.resize(mask.astype(np.float32), size, interpolation=cv2.INTER_AREA) >= 0.5
+            ).astype(np.uint8)
+
+
+def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uint8],
+            unknown: NDArray[np.uint8], scale: float, distance_cap: float | None = None
+            ) -> ObservedWindow | None:
+    """Find G and resample the working-resolution masks into the window (None when
+    there is no silhouette or it does not stand on the floor in view).
+
+    ``distance_cap`` pulls G nearer when the lowest row puts it farther (a jump lifts
+    the feet off the floor; the tracker passes the nearest distance of the last
+    moments).
+    """
+    a = anchor_point(foreground)
+    if a is None:
+        return None
+    u = (a[0] + 0.5) / scale - 0.5
+    v = (a[1] + 0.5) / scale - 0.5
+    g = floor_point(camera, u, v)
+    if g is None:
+        return None
+    c = camera.center
+    for _ in range(2):  # refine G in the window (verticals are vertical there)
+        view = geometry.view(c, g, 0)
+        m0 = _warp(foreground, _homography(camera, view, scale), geometry.size(0))
+        a0 = anchor_point(m0)
+        if a0 is None:
+            return None
+        g2 = floor_point(view, a0[0], a0[1])
+        if g2 is None:
+            return None
+        g = g2
+    c = camera.center
+    off = g - c
+    off[1] = 0.0
+    raw = float(np.linalg.norm(off))
+    if distance_cap is not None and raw > distance_cap > 0:
+        g = c + off * (distance_cap / raw)
+        g[1] = 0.0
+    views = tuple(geometry.view(c, g, lv) for lv in range(3))
+    H = _homography(camera, views[2], scale)
+    fg3 = _warp(foreground, H, geometry.size(2))
+    un3 = _warp(unknown, H, geometry.size(2))
+    fgs = (_down(fg3, geometry.size(0)), _down(fg3, geometry.size(1)), fg3)
+    uns = (_down(un3, geometry.size(0)), _down(un3, geometry.size(1)), un3)
+    return ObservedWindow(fgs, uns, g, views, raw)

@@ -1,0 +1,233 @@
+"""Specifications of the silhouette tracker's stages (papers/single-camera-silhouette-mocap.txt)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.errors import CaptureError, ConfigError
+from bodyplay.trackers.silhouette.background import BackgroundModel
+from bodyplay.trackers.silhouette.distance import (
+    distance_maps,
+    encode_runs,
+    score_dense,
+    score_direct,
+    score_runs,
+)
+from bodyplay.trackers.silhouette.options import BackgroundOptions, HierarchyOptions
+
+
+def _room(rng: np.random.Generator) -> np.ndarray:
+    base = rng.integers(40, 220, (60, 80, 3)).astype(np.uint8)
+    return np.kron(base, np.ones((8, 8, 1), np.uint8))  # 480x640 blocky texture
+
+
+def _with_player(room: np.ndarray, x: int) -> np.ndarray:
+    img = room.copy()
+    img[150:420, x : x + 80] = (200, 40, 40)
+    return img
+
+
+def test_background_learns_with_the_player_in_view_from_frame_0() -> None:
+    rng = np.random.default_rng(0)
+    room = _room(rng)
+    model = BackgroundModel(BackgroundOptions(learn_after=6))
+    xs = [100 + 12 * (i % 30) if (i // 30) % 2 == 0 else 100 + 12 * (30 - i % 30)
+          for i in range(150)]
+    for x in xs:
+        sil = model.apply(_with_player(room, x))
+    truth = np.zeros((480, 640), np.uint8)
+    truth[150:420, xs[-1] : xs[-1] + 80] = 1
+    small = truth[::2, ::2]
+    fg = sil.foreground > 0
+    iou = (fg & (small > 0)).sum() / (fg | (small > 0)).sum()
+    assert iou > 0.85
+    # the copy of the player in the first frame (a ghost) is gone
+    assert not fg[75:210, 50:90].any()
+
+
+def test_background_empty_room_start_makes_every_pixel_known() -> None:
+    room = _room(np.random.default_rng(1))
+    model = BackgroundModel(BackgroundOptions(learn_after=5))
+    for _ in range(8):
+        model.apply(room)
+    assert model.known is not None and model.known.all()
+    sil = model.apply(_with_player(room, 300))
+    assert sil.foreground[75:210, 150:190].mean() > 0.95
+    assert sil.unknown.sum() == 0
+
+
+def test_background_rejects_a_grey_frame() -> None:
+    with pytest.raises(CaptureError, match="RGB"):
+        BackgroundModel().apply(np.zeros((48, 64), np.uint8))
+
+
+def _blob(shift: int = 0) -> np.ndarray:
+    m = np.zeros((80, 60), np.uint8)
+    m[10:70, 25 + shift : 35 + shift] = 1  # body
+    m[20:25, 10 + shift : 50 + shift] = 1  # arms
+    return m
+
+
+def test_distance_is_zero_for_identical_masks() -> None:
+    maps = distance_maps(_blob())
+    assert score_direct(maps, _blob()) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_distance_grows_with_offset() -> None:
+    maps = distance_maps(_blob())
+    d = [score_direct(maps, _blob(s)) for s in (0, 1, 2, 4, 8)]
+    assert all(b > a for a, b in zip(d, d[1:], strict=False))
+
+
+def test_matrix_product_and_runs_equal_direct_scoring() -> None:
+    rng = np.random.default_rng(2)
+    maps = distance_maps(_blob(), unknown=(rng.random((80, 60)) < 0.05).astype(np.uint8))
+    masks = np.stack([_blob(s) for s in range(-5, 6)] + [rng.integers(0, 2, (80, 60))]
+                     ).astype(np.uint8)
+    direct = np.array([score_direct(maps, m) for m in masks])
+    dense = score_dense(maps, masks.reshape(len(masks), -1).astype(np.float32))
+    runs = score_runs(maps, encode_runs(masks))
+    np.testing.assert_allclose(dense, direct, rtol=1e-5, atol=1e-7)
+    np.testing.assert_allclose(runs, direct, rtol=1e-9, atol=1e-9)
+    np.testing.assert_array_equal(encode_runs(masks).masks(), masks)
+
+
+def test_unknown_pixels_cost_nothing_to_cover() -> None:
+    fg = _blob()
+    unknown = np.zeros_like(fg)
+    unknown[:, :] = 1 - fg
+    maps = distance_maps(fg, unknown)
+    wide = np.ones_like(fg)
+    assert score_direct(maps, wide) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_dedup_keeps_poses_five_degrees_apart(skeleton) -> None:  # type: ignore[no-untyped-def]
+    from scipy.spatial.transform import Rotation
+
+    from bodyplay.trackers.silhouette.poses import _quats, dedup_poses
+
+    rng = np.random.default_rng(3)
+    base = skeleton.rest_pose()
+    poses = np.tile(base, (60, 1))
+    i = 3 + 3 * skeleton.node_index("l_elbow")
+    poses[:, i + 2] = rng.uniform(0, 1.2, 60)
+    kept, owner = dedup_poses(skeleton, poses, 5.0)
+    q = _quats(skeleton, poses)
+
+    def max_angle(a: int, b: int) -> float:
+        ra, rb = Rotation.from_quat(q[a]), Rotation.from_quat(q[b])
+        return float(np.degrees((ra.inv() * rb).magnitude()).max())
+
+    for a in range(len(kept)):
+        for b in range(a + 1, len(kept)):
+            assert max_angle(kept[a], kept[b]) >= 5.0 - 1e-6
+    for j in range(len(poses)):
+        assert max_angle(j, kept[owner[j]]) < 5.0 + 1e-6
+
+
+def test_algorithm_1_prototypes_cover_their_clusters_within_the_threshold(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.hierarchy import cluster_level, geometry_of
+    from bodyplay.trackers.silhouette.templates import render_templates
+
+    tree = silhouette_tree
+    poses = tree.poses[:80]
+    r = render_templates(__import__("bodyplay").Skeleton(), poses, geometry_of(tree.options),
+                         levels=(0,))
+    t = 0.05
+    protos, assign = cluster_level(r.runs[0], np.arange(80), t, np.random.default_rng(0))
+    assert len(set(protos.tolist())) == len(protos)
+    for k, p in enumerate(protos):
+        maps = distance_maps(r.runs[0].masks(np.array([p]))[0])
+        d = score_runs(maps, r.runs[0], np.flatnonzero(assign == k))
+        assert d.max() <= t + 1e-9
+        assert assign[p] == k
+
+
+def test_tree_levels_partition_the_poses(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    tree = silhouette_tree
+    sizes = tree.level_sizes
+    assert len(sizes) == 3 and sizes[0] <= sizes[1] <= sizes[2] <= len(tree.poses)
+    for lv in (1, 2):
+        par = tree.node_parent[lv]
+        assert np.all(np.diff(par) >= 0)  # children contiguous, parent by parent
+        assert set(par.tolist()) == set(range(sizes[lv - 1]))  # every node has children
+    assert np.all(tree.node_parent[0] == -1)
+    assert tree.trans_count.sum() > 0 and np.all(tree.part_sigma > 0)
+
+
+def test_filter_prunes_subtrees_and_finds_a_template_shown_to_it(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+    from bodyplay.trackers.silhouette.treefilter import TreeFilter
+
+    tree = silhouette_tree
+    body = tree.bodies["m"]
+    f = TreeFilter(tree, body, SilhouetteOptions(max_expand=(4, 8)))
+    leaf = tree.num_leaves // 2
+    shown = body.runs[2].masks(np.array([leaf]))[0]
+    maps = tuple(
+        distance_maps(np.asarray(
+            __import__("cv2").resize(shown.astype(np.float32), (w, h),
+                                     interpolation=__import__("cv2").INTER_AREA) >= 0.5,
+            np.uint8))
+        for w, h in ((60, 80), (120, 160), (240, 320)))
+    for _ in range(3):
+        step = f.step(maps)  # type: ignore[arg-type]
+    assert step.evaluations[0] == tree.level_sizes[0]
+    assert step.evaluations[1] < tree.level_sizes[1]
+    assert step.evaluations[2] < tree.level_sizes[2]
+    assert step.distance < 0.005
+    assert f.posterior is not None and f.posterior.sum() == pytest.approx(1.0)
+
+
+def test_cache_is_rebuilt_when_its_version_changes(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette import hierarchy
+
+    opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.0,
+                            bodies=("m",), thresholds=(0.1, 0.08, 0.06), max_poses=60,
+                            dedup_deg=12.0)
+    tree = hierarchy.load_or_build_tree(opts, tmp_path)
+    path = hierarchy.tree_cache_path(opts, tmp_path)
+    assert path.exists() and not list(tmp_path.glob("*.tmp*"))
+    key = path.stem.rsplit("_", 1)[-1]
+    assert hierarchy.ShapeTree.load(path, opts, key).level_sizes == tree.level_sizes
+    monkeypatch.setattr(hierarchy, "FORMAT_VERSION", hierarchy.FORMAT_VERSION + 1)
+    with pytest.raises(ValueError, match="stale"):
+        hierarchy.ShapeTree.load(path, opts, key)
+    built = []
+    real = hierarchy.build_tree
+    monkeypatch.setattr(hierarchy, "build_tree",
+                        lambda o, progress=False: built.append(1) or real(o, progress))
+    path2 = hierarchy.tree_cache_path(opts, tmp_path)
+    hierarchy.load_or_build_tree(opts, tmp_path)
+    assert built == [1] and path2.exists()
+
+
+def test_options_reject_nonsense() -> None:
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+
+    with pytest.raises(ConfigError):
+        HierarchyOptions(thresholds=(0.1, -1.0, 0.1))
+    with pytest.raises(ConfigError):
+        SilhouetteOptions(occlusion_m=0.5)
+    with pytest.raises(ConfigError):
+        BackgroundOptions(rate=2.0)
+
+
+def test_factory_needs_exactly_one_camera(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.capture.camera import Camera
+    from bodyplay.trackers.silhouette import create_silhouette_tracker
+
+    cam = Camera.from_fov("cam0", 640, 480, 60.0)
+    with pytest.raises(ConfigError, match="exactly one"):
+        create_silhouette_tracker(cameras=(cam, cam), tree=silhouette_tree)
+    t = create_silhouette_tracker(cameras=(cam,), tree=silhouette_tree)
+    assert t.name == "silhouette"
+
+
+def test_silhouette_is_a_tracker_plugin() -> None:
+    from bodyplay.plugins import PluginRegistry
+
+    assert "silhouette" in PluginRegistry().names("trackers")
