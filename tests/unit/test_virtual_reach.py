@@ -95,11 +95,30 @@ def test_unreachable_target_is_approached_within_joint_limits(keeper, actor_skel
     assert actor_skeleton.within_limits(plan.reach.pose)
 
 
-def test_nothing_moves_before_the_reaction_time(keeper, idle) -> None:
+def test_nothing_moves_before_the_reaction_time(keeper) -> None:
     keeper.set_target(1.2, (0.5, 1.3, 0.3), now=0.5)
     for t in (0.5, 0.6, 0.69):
-        np.testing.assert_allclose(keeper.pose_at(t), idle.pose_at(t), atol=1e-9)
-    assert np.abs(keeper.pose_at(0.9) - idle.pose_at(0.9)).max() > 0.05
+        np.testing.assert_allclose(keeper.pose_at(t), keeper.base_at(t), atol=1e-9)
+    assert np.abs(keeper.pose_at(0.9) - keeper.base_at(0.9)).max() > 0.05
+
+
+def test_ready_stance_holds_the_palms_in_front_and_relaxed_keeps_the_mocap_arms(
+    actor_skeleton, idle
+) -> None:
+    from bodyplay.virtual import body_axes
+
+    ready = ReachController(actor_skeleton, idle=idle)
+    relaxed = ReachController(actor_skeleton, idle=idle,
+                              options=make_reach_options(stance="relaxed"))
+    for t in (0.0, 0.7):
+        q = ready.pose_at(t)
+        pelvis, left, fwd = body_axes(actor_skeleton, q)
+        palms = effector_points(actor_skeleton, q, "both")
+        assert np.all((palms - pelvis) @ fwd > 0.2)  # in front of the body
+        assert abs(float((palms[0] - palms[1]) @ left) - 0.56) < 0.05
+        np.testing.assert_allclose(relaxed.pose_at(t), idle.pose_at(t), atol=1e-9)
+    with pytest.raises(ConfigError, match="stance"):
+        make_reach_options(stance="crouched")
 
 
 def test_late_ball_is_reached_late_at_the_speed_limit(actor_skeleton, idle) -> None:
@@ -126,7 +145,7 @@ def test_pose_is_continuous_through_retargets_and_the_return(keeper, actor_skele
     joints = actor_skeleton.joint_positions(np.stack(poses))
     step = np.linalg.norm(np.diff(joints, axis=0), axis=-1).max()
     assert step < 8.0 * dt  # no joint faster than 8 m/s anywhere: no jumps
-    np.testing.assert_allclose(keeper.pose_at(3.4), keeper.idle.pose_at(3.4), atol=1e-9)
+    np.testing.assert_allclose(keeper.pose_at(3.4), keeper.base_at(3.4), atol=1e-9)
 
 
 def test_same_calls_give_the_same_poses(actor_skeleton, idle) -> None:

@@ -12,6 +12,7 @@ to a session.
 from bodyplay.virtual.controller import PoseController, TimelineController
 from bodyplay.virtual.idle import DEFAULT_IDLE, IdleMotion
 from bodyplay.virtual.reach import (
+    STANCES,
     ReachController,
     ReachOptions,
     ReachPlan,
@@ -39,6 +40,7 @@ __all__ = [
     "ReachPlan",
     "ReachPose",
     "ReachWeights",
+    "STANCES",
     "TimelineController",
     "VirtualPlayerSource",
     "VirtualPoseSource",

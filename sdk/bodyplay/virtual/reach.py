@@ -40,12 +40,18 @@ from bodyplay.virtual.reach_ik import (
     EFFECTORS,
     ReachPose,
     ReachWeights,
+    body_axes,
     choose_effector,
     effector_points,
     solve_reach,
 )
 
-__all__ = ["ReachController", "ReachOptions", "ReachPlan", "make_reach_options", "min_jerk"]
+__all__ = [
+    "STANCES", "ReachController", "ReachOptions", "ReachPlan", "make_reach_options", "min_jerk",
+]
+
+STANCES: tuple[str, ...] = ("ready", "relaxed")
+"""How the keeper holds the arms between balls."""
 
 # Peak speed of a minimum-jerk move over its average speed.
 _MIN_JERK_PEAK = 1.875
@@ -72,7 +78,10 @@ class ReachOptions:
     head are used; ``use_head``: allow headers; ``hands_gap``: palm spacing of a
     two-handed catch; ``palm``: where on the hand bone the contact point is (0
     wrist .. 1 fingertips); ``reach_tolerance``: a reach whose effector ends
-    farther than this from the target is reported as not reachable.
+    farther than this from the target is reported as not reachable. ``stance``:
+    ``"ready"`` (a keeper's: the palms held in front, ``ready_hands`` = half the
+    distance between them, their height above the pelvis and how far forward) or
+    ``"relaxed"`` (the mocap idle's arms, hanging).
     """
 
     reaction_time: float = 0.2
@@ -89,6 +98,8 @@ class ReachOptions:
     hands_gap: float = 0.18
     palm: float = 0.5
     reach_tolerance: float = 0.04
+    stance: str = "ready"
+    ready_hands: tuple[float, float, float] = (0.28, 0.2, 0.3)
 
 
 def make_reach_options(**kwargs: Any) -> ReachOptions:
@@ -106,6 +117,13 @@ def make_reach_options(**kwargs: Any) -> ReachOptions:
         "max_step": (0.0, 2.0), "both_hands_width": (0.0, 1.0), "head_width": (0.0, 0.5),
         "hands_gap": (0.0, 0.6), "palm": (0.0, 1.0), "reach_tolerance": (0.001, 1.0),
     }
+    if o.stance not in STANCES:
+        raise ConfigError(f"stance {o.stance!r} must be one of {', '.join(STANCES)}")
+    hands = np.asarray(o.ready_hands, dtype=np.float64)
+    if hands.shape != (3,) or not (0.05 <= hands[0] <= 0.6 and -0.4 <= hands[1] <= 0.8
+                                   and 0.0 <= hands[2] <= 0.6):
+        raise ConfigError(f"ready_hands {o.ready_hands!r} must be (half-width 0.05..0.6, "
+                          f"height -0.4..0.8, forward 0..0.6) metres")
     for name, (lo, hi) in ranges.items():
         v = getattr(o, name)
         if not (isinstance(v, int | float) and math.isfinite(v) and lo <= v <= hi):
@@ -186,18 +204,31 @@ class ReachController:
         self.idle = idle or IdleMotion(skeleton, at=at, facing=facing)
         if self.idle.skeleton != skeleton:
             raise ConfigError("the idle motion is for another skeleton than the controller's")
+        self.stance: ReachPose | None = None
+        if self.options.stance == "ready":
+            q0 = self.idle.pose_at(0.0)
+            pelvis, left, fwd = body_axes(skeleton, q0)
+            half, up, ahead = self.options.ready_hands
+            centre = pelvis + np.array([0.0, up, 0.0]) + ahead * fwd
+            self.stance = solve_reach(skeleton, q0, centre, "both", hands_gap=2.0 * half,
+                                      palm=self.options.palm, weights=self.weights, body=False)
         self._layers: list[_Layer] = []
         self._now = 0.0
         self.plans: list[ReachPlan] = []
 
     # ---- evaluation ------------------------------------------------------------------
+    def base_at(self, t: float) -> NDArray[np.float64]:
+        """The pose between balls at ``t``: the idle motion in the chosen stance."""
+        q = self.idle.pose_at(t)
+        return q if self.stance is None else self.stance.apply(q)
+
     def pose_at(self, t: float) -> NDArray[np.float64]:
         """The pose vector at ``t`` seconds: idle with the planned reaches blended in."""
         if not math.isfinite(t):
             raise ConfigError(f"time must be finite, got {t}")
         t = float(t)
         self._now = max(self._now, t)
-        idle = self.idle.pose_at(t)
+        idle = self.base_at(t)
         x = idle
         for layer in self._layers:
             if t <= layer.start:
@@ -267,7 +298,7 @@ class ReachController:
                               f"{', '.join(EFFECTORS)}")
         self._prune(n)
         t_arrival = float(t_arrival)
-        base = self.idle.pose_at(t_arrival)
+        base = self.base_at(t_arrival)
         if effector == "auto":
             effector = choose_effector(
                 self.skeleton, base, p, both_hands_width=o.both_hands_width,
@@ -309,9 +340,9 @@ class ReachController:
         """(T, 17, 3) joints bounding the keeper's reach: idle, a step each way with the
         arms raised and out, for a camera to frame."""
         sk = self.skeleton
-        idle = self.idle.poses_at(np.linspace(0.0, self.idle.period, 8))
+        idle = np.stack([self.base_at(t) for t in np.linspace(0.0, self.idle.period, 8)])
         poses = [q for q in idle]
-        _, left, _ = _axes(sk, idle[0])
+        _, left, _ = body_axes(sk, idle[0])
         arms_out = {"l_shoulder": (0.0, 0.0, 0.9), "r_shoulder": (0.0, 0.0, -0.9)}
         for side in (-1.0, 1.0):
             q = idle[0].copy()
@@ -322,8 +353,3 @@ class ReachController:
             poses.append(q)
         return sk.joint_positions(np.stack(poses))
 
-
-def _axes(sk: Skeleton, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
-    from bodyplay.virtual.reach_ik import body_axes
-
-    return body_axes(sk, q)

@@ -42,6 +42,7 @@ EFFECTORS: tuple[str, ...] = ("left", "right", "both", "head")
 """What can touch the ball: a palm, both palms, or the head."""
 
 _N = {name: i for i, name in enumerate(NODE_NAMES)}
+_FD_STEP = 1e-6  # radians (or metres) of the Jacobian's forward differences
 
 
 def _comp(node: str, axes: tuple[int, ...] = (0, 1, 2)) -> list[int]:
@@ -149,13 +150,12 @@ def effector_points(
     raise ConfigError(f"unknown effector {effector!r}; choose one of {', '.join(EFFECTORS)}")
 
 
-def _groups(effector: str) -> list[tuple[list[int], str]]:
-    """(pose indices, weight name) of the joints a reach with ``effector`` moves."""
-    groups: list[tuple[list[int], str]] = [
-        (_comp("lumbar"), "trunk"),
-        (_comp("thorax"), "trunk"),
-        ([0, 2], "step"),
-    ]
+def _groups(effector: str, body: bool) -> list[tuple[list[int], str]]:
+    """(pose indices, weight name) of the joints a reach with ``effector`` moves
+    (``body``: also the trunk and a step)."""
+    groups: list[tuple[list[int], str]] = []
+    if body:
+        groups += [(_comp("lumbar"), "trunk"), (_comp("thorax"), "trunk"), ([0, 2], "step")]
     sides = {"left": ("l",), "right": ("r",), "both": ("l", "r")}.get(effector, ())
     for s in sides:
         groups.append((_comp(f"{s}_clavicle"), "clavicle"))
@@ -195,11 +195,13 @@ def solve_reach(
     hands_gap: float = 0.18,
     palm: float = 0.5,
     weights: ReachWeights | None = None,
+    body: bool = True,
 ) -> ReachPose:
     """Pose ``skeleton`` from ``base`` so ``effector`` touches ``target`` (see module doc).
 
     ``hands_gap``: metres between the palms of a two-handed catch (across the body);
-    ``max_step``: the largest horizontal step, metres.
+    ``max_step``: the largest horizontal step, metres; ``body=False`` moves only the
+    arms (or neck and head): no lean, no step.
     """
     w = weights or ReachWeights()
     q0 = np.asarray(base, dtype=np.float64).reshape(-1)
@@ -218,7 +220,7 @@ def solve_reach(
     else:
         targets = p[None]
 
-    groups = _groups(effector)
+    groups = _groups(effector, body)
     idx = np.concatenate([np.asarray(g, dtype=np.int64) for g, _ in groups])
     cost = np.concatenate([np.full(len(g), getattr(w, name)) for g, name in groups])
     lo_all, hi_all = skeleton.limits
@@ -238,15 +240,28 @@ def solve_reach(
     x0 = np.clip(start[idx], lo_in, hi_in)
     q = q0.copy()
 
+    n = len(idx)
+    batch = np.repeat(q0[None], n + 1, axis=0)
+    steps = np.full(n, _FD_STEP)
+    rows = np.arange(n)
+
     def residual(x: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
         q[idx] = x
         pts = effector_points(skeleton, q, effector, palm)
         return np.concatenate([(pts - targets).ravel(), scale * cost * (x - ref)])
 
-    sol = least_squares(residual, x0, bounds=(lo, hi), args=(1.0,), method="trf",
-                        x_scale=1.0, max_nfev=60)
-    sol = least_squares(residual, np.clip(sol.x, lo_in, hi_in), bounds=(lo, hi),
-                        args=(0.1,), method="trf", max_nfev=30)
+    def jacobian(x: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
+        # forward differences, every perturbed pose in one batched FK call
+        batch[:, idx] = x
+        batch[rows + 1, idx] += steps
+        pts = effector_points(skeleton, batch, effector, palm).reshape(n + 1, -1)
+        jac_eff = ((pts[1:] - pts[0]) / steps[:, None]).T
+        return np.vstack([jac_eff, np.diag(scale * cost)])
+
+    sol = least_squares(residual, x0, jac=jacobian, bounds=(lo, hi), args=(1.0,),
+                        method="trf", max_nfev=60)
+    sol = least_squares(residual, np.clip(sol.x, lo_in, hi_in), jac=jacobian,
+                        bounds=(lo, hi), args=(0.1,), method="trf", max_nfev=30)
     x = np.clip(sol.x, lo, hi)
     pose = q0.copy()
     pose[idx] = x

@@ -15,6 +15,7 @@ frame they produced.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Iterator
 from types import TracebackType
 from typing import TYPE_CHECKING, Any, Self
@@ -71,6 +72,9 @@ class VirtualPlayerSource:
     ``i / fps`` seconds on the controller's clock. The stream plays once.
     """
 
+    pose_level = False
+    """Frames, not poses: a session tracks them (the game kit reads this)."""
+
     def __init__(
         self,
         controller: PoseController,
@@ -116,6 +120,10 @@ class VirtualPlayerSource:
         self.fps = float(opts.fps)
         self.cameras: tuple[Camera, ...] | None = self.camera.cameras
         self.last: SynthFrame | None = None
+        self.render_seconds = 0.0
+        """Wall seconds spent posing and rendering so far (for per-stage timing)."""
+        self.last_render_ms = 0.0
+        """Milliseconds the last frame took to pose and render."""
         self._started = False
         self._closed = False
 
@@ -145,10 +153,14 @@ class VirtualPlayerSource:
             if self._closed:
                 return
             t = i / self.fps
+            start = time.perf_counter()
             if t < self.empty_room_seconds - 1e-9:
                 sf = self.camera.capture_empty(t, i)
             else:
                 sf = self.camera.capture(t, self.controller.pose_at(t), index=i)
+            spent = time.perf_counter() - start
+            self.render_seconds += spent
+            self.last_render_ms = 1000.0 * spent
             self.last = sf
             yield sf.frames
             i += 1
@@ -179,6 +191,11 @@ class VirtualPoseSource:
     joints, like a tracker's; ``upper_body_only`` reports the legs as lost (the
     color shirt). ``truth`` holds the exact joints of the last sample.
     """
+
+    pose_level = True
+    """Poses, no images: a session takes them without a tracker."""
+    cameras: tuple[Camera, ...] | None = None
+    """No cameras: nothing to calibrate or track."""
 
     def __init__(
         self,
