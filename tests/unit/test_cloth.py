@@ -246,3 +246,17 @@ def test_self_pairs_finds_close_particles_only_once() -> None:
     got = list(zip(pi.tolist(), pj.tolist(), strict=True))
     assert len(got) == len(set(got)) and set(got) == want
     assert np.all(ph == 0.01)
+
+
+def test_an_upper_body_pose_dresses_and_unseen_legs_follow_the_torso(jacks: np.ndarray) -> None:
+    cloth = Cloth(skirt(resolution=0.4))
+    upper = jacks[0].copy()
+    upper[11:] = np.nan  # an upper-body tracker: no hips, knees, ankles
+    assert cloth.step(DT, upper).dressed
+    legs = cloth.body_joints[11:]
+    assert np.all(np.isfinite(legs))
+    moved = upper + np.array([0.05, 0.0, 0.0])
+    for _ in range(5):
+        r = cloth.step(DT, moved)
+    assert np.allclose(cloth.body_joints[11:], legs + [0.05, 0.0, 0.0], atol=1e-9)
+    assert r.max_penetration <= 0.01

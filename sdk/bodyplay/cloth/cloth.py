@@ -27,8 +27,7 @@ from bodyplay.errors import ConfigError
 __all__ = ["Cloth", "ClothStep"]
 
 _MAX_CANDIDATES = 6
-_REQUIRED = tuple(JOINT_INDEX[n] for n in ("pelvis", "neck", "l_shoulder", "r_shoulder",
-                                           "l_hip", "r_hip"))
+_REQUIRED = tuple(JOINT_INDEX[n] for n in ("pelvis", "neck", "l_shoulder", "r_shoulder"))
 
 
 @dataclass(frozen=True)
@@ -236,19 +235,22 @@ class Cloth:
         return None if np.all(np.isnan(j)) else j
 
     def _fill(self, j: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Lost joints take the driving skeleton's (or, before it, the torso's) place."""
+        """Lost joints keep their place relative to the torso (as last driven, or as in
+        the rest pose before the first pose); without a torso they all hold still."""
         bad = ~np.all(np.isfinite(j), axis=1)
         if not bad.any():
             return j
         j = j.copy()
-        if self._driven is not None:
-            j[bad] = self._driven[bad]
-        else:  # before dressing: put unknown limbs where the rest pose has them
-            o0, r0 = body_frames(self.garment.rest_joints)
-            o1, r1 = body_frames(j)
-            f = self._frame
-            moved = (self.garment.rest_joints - o0[f]) @ r0[f] @ r1[f].T + o1[f]
+        ref = self.garment.rest_joints if self._driven is None else self._driven
+        if np.all(np.isfinite(j[list(_REQUIRED)])):
+            o0, r0 = body_frames(ref)
+            j_torso = j.copy()
+            j_torso[bad] = ref[bad]  # only the torso joints matter for the torso frame
+            o1, r1 = body_frames(j_torso)
+            moved = (ref - o0[0]) @ r0[0] @ r1[0].T + o1[0]
             j[bad] = moved[bad]
+        else:
+            j[bad] = ref[bad]
         return j
 
     def _dress(self, dt: float, target: NDArray[np.float64]) -> int:

@@ -43,8 +43,9 @@ class ClothOptions:
     rigidly with the body's frame (a glitch gives the cloth no speed); when the pelvis
     jumps by more than ``teleport_distance`` (m) in one step the body and its cloth
     are moved rigidly to the new place (no snap through the cloth). Joints that are
-    lost (NaN, or ``None``
-    for the whole pose) hold their last position while the cloth settles.
+    lost (NaN) keep their last place relative to the torso (legs an upper-body tracker
+    never sees hang as in the rest pose); a lost pose (``None``) holds the body still
+    while the cloth settles.
     ``dress_seconds``: on the first pose the garment, made for the rest pose, is
     moved to the body and the skeleton blends from the rest pose to the first pose
     over this time (simulated inside the first step).
