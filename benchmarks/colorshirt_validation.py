@@ -55,16 +55,20 @@ from typing import Any
 
 import cv2
 import numpy as np
-from _machine import machine
 from numpy.typing import NDArray
 
+from _machine import machine
 from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.shirt import SHIRT_COLORS
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.jsonl import read_pose_jsonl
 from bodyplay.capture.sources import open_source
-from bodyplay.trackers.colorshirt import ColorShirtOptions, DatabaseOptions, create_colorshirt_tracker
+from bodyplay.trackers.colorshirt import (
+    ColorShirtOptions,
+    DatabaseOptions,
+    create_colorshirt_tracker,
+)
 from bodyplay.trackers.colorshirt.database import (
     PoseDatabase,
     load_or_build_database,
