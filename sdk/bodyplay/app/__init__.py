@@ -6,6 +6,7 @@ clip, the game's virtual player) in a pygame window or headless to an mp4 plus
 summary.json; :func:`game_main` is the one command line of every game.
 """
 
+from bodyplay.app.analysis import HandKinematics, HandTrace, Marker, plot_hand_motion
 from bodyplay.app.cli import game_argument_parser, game_main
 from bodyplay.app.game import STAGES, Game, GameContext
 from bodyplay.app.inputs import GameInput, open_game_input
@@ -25,6 +26,9 @@ __all__ = [
     "GameInput",
     "GameOptions",
     "GameResult",
+    "HandKinematics",
+    "HandTrace",
+    "Marker",
     "Scene",
     "SceneRenderer",
     "display_available",
@@ -32,5 +36,6 @@ __all__ = [
     "game_main",
     "make_game_options",
     "open_game_input",
+    "plot_hand_motion",
     "run_game",
 ]

@@ -313,9 +313,10 @@ def _put_text(overlay: NDArray[np.uint8], item: TextItem) -> None:
     elif item.anchor == "right":
         x -= tw
     org = (int(round(x)), int(round(y)))
-    if item.outline:
-        cv2.putText(overlay, item.text, org, _FONT, scale, (0, 0, 0, 200), thick + 3,
-                    cv2.LINE_AA)
+    if item.outline:  # a drop shadow keeps the text readable on sky and grass
+        off = max(1, thick)
+        cv2.putText(overlay, item.text, (org[0] + off, org[1] + off), _FONT, scale,
+                    (0, 0, 0, 170), thick + 1, cv2.LINE_AA)
     c = tuple(int(255 * v) for v in item.color) + (255,)
     cv2.putText(overlay, item.text, org, _FONT, scale, c, thick, cv2.LINE_AA)
 
@@ -449,10 +450,11 @@ class SceneRenderer:
             cap = np.asarray(scene.capsules, np.float64)
             a, b, r = cap[:, 0:3], cap[:, 3:6], cap[:, 6]
             self._cyl.draw(_basis_models(a, b, r), cap[:, 7:10].astype(np.float32))
-            ends = np.concatenate([a, b])
-            rr = np.repeat(np.concatenate([r, r])[:, None], 3, 1)
-            self._cap.draw(_scale_models(ends, rr),
-                           np.concatenate([cap[:, 7:10], cap[:, 7:10]]).astype(np.float32))
+            big = r >= 0.012  # thin rods (nets, lines) need no round ends
+            ends = np.concatenate([a[big], b[big]])
+            rr = np.repeat(np.concatenate([r[big], r[big]])[:, None], 3, 1)
+            col = cap[big, 7:10]
+            self._cap.draw(_scale_models(ends, rr), np.concatenate([col, col]).astype(np.float32))
         if sph:
             s = np.asarray(sph, np.float64)
             self._sphere.draw(_scale_models(s[:, :3], np.repeat(s[:, 3:4], 3, 1)),

@@ -1,0 +1,100 @@
+"""How a goalkeeper frame looks: the pitch, the goal and its net, the ball with its
+shadow, the keeper, the score and the camera picture the tracker sees."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from apps.goalkeeper.game.rules import Rules, part_group
+from apps.goalkeeper.game.shots import Goal
+from bodyplay.app import GameContext, Scene
+from bodyplay.body.joints import BONES, JOINT_INDEX
+
+__all__ = ["draw_pitch", "draw_ball", "draw_hud", "camera_inset"]
+
+_WHITE = (0.95, 0.95, 0.95)
+_NET = (0.85, 0.85, 0.88)
+_BANNER = {"save": ("SAVE!", (0.3, 1.0, 0.4)), "goal": ("GOAL", (1.0, 0.3, 0.25)),
+           "wide": ("WIDE", (0.9, 0.9, 0.9))}
+
+
+def draw_pitch(scene: Scene, goal: Goal) -> None:
+    """Camera behind the penalty spot, mirrored (the player sees a mirror), grass,
+    goal frame and net."""
+    scene.look((0.0, 1.45, goal.distance + 1.6), (0.0, 0.95, 0.0), hfov_deg=46.0)
+    scene.mirror = True
+    scene.sky = (0.58, 0.74, 0.92)
+    scene.floor((0.30, 0.56, 0.26), (0.27, 0.51, 0.23), size=40.0, tile=1.0)
+    w, h, z = goal.width / 2, goal.height, goal.line_z
+    back = z - 0.8
+    r = 0.05
+    scene.capsule((-w, 0, z), (-w, h, z), r, _WHITE)
+    scene.capsule((w, 0, z), (w, h, z), r, _WHITE)
+    scene.capsule((-w, h, z), (w, h, z), r, _WHITE)
+    scene.box((0.0, 0.004, goal.distance), (0.22, 0.008, 0.22), _WHITE)  # penalty spot
+    scene.box((0.0, 0.004, z), (2 * w + 0.6, 0.008, 0.06), _WHITE)  # goal line
+    net_r = 0.008
+    for x in np.linspace(-w, w, 15):
+        scene.capsule((x, h, z), (x, h * 0.75, back), net_r, _NET)
+        scene.capsule((x, h * 0.75, back), (x, 0, back), net_r, _NET)
+    for y in np.linspace(0.25, h * 0.75, 5):
+        scene.capsule((-w, y, back), (w, y, back), net_r, _NET)
+    for side in (-w, w):
+        for y in np.linspace(0.25, h, 6):
+            d = back + (z - back) * min(1.0, (y - h * 0.75) / (h * 0.25)) if y > h * 0.75 else back
+            scene.capsule((side, y, z), (side, min(y, h * 0.75), d), net_r, _NET)
+
+
+def draw_ball(scene: Scene, rules: Rules) -> None:
+    """The ball in play, never below the grass, with its shadow."""
+    b = rules.ball
+    if b is None:
+        return
+    x, y, z = b.position
+    rad = rules.options.ball_radius
+    scene.sphere((x, max(y, rad), z), rad, (0.97, 0.97, 0.97), shadow=True)
+
+
+def draw_hud(ctx: GameContext, scene: Scene, rules: Rules) -> None:
+    """Score line, streak, difficulty and the last result's banner."""
+    r = rules
+    taken = r.saves + r.goals + r.wide
+    scene.text(f"SHOT {min(r.next_shot, len(r.shots))}/{len(r.shots)}", (14, 30), 0.9)
+    scene.text(f"SAVES {r.saves}   GOALS {r.goals}", (14, 58), 0.9, (1.0, 0.95, 0.6))
+    scene.text(f"streak {r.streak}  best {r.best_streak}", (14, 84), 0.7)
+    if taken and r.log:
+        last = r.log[-1]
+        b = r.ball
+        if b is not None and b.outcome:
+            text, color = _BANNER[b.outcome]
+            if b.outcome == "save":
+                text += f"  ({part_group(b.part)})"
+            scene.text(text, (scene.width / 2, 120), 1.8, color, anchor="center")
+        elif r.ball is None and last["outcome"] and r.timer > 0.3:
+            pass
+    level = r.shots[min(r.next_shot, len(r.shots)) - 1].level if r.next_shot else 0.0
+    scene.text(f"difficulty {'#' * (1 + int(level * 9))}", (14, scene.height - 16), 0.6,
+               (0.95, 0.95, 0.95))
+
+
+def camera_inset(ctx: GameContext, scene: Scene, width: int = 160) -> None:
+    """The first camera's picture with the tracked skeleton, top right."""
+    fs = ctx.frame
+    cams = ctx.session.cameras
+    if fs is None or not cams:
+        return
+    img = fs.frames[0].image
+    h0, w0 = img.shape[:2]
+    height = int(round(width * h0 / w0))
+    small = cv2.resize(img, (width, height), interpolation=cv2.INTER_AREA)
+    pose = ctx.pose
+    if pose is not None:
+        uv = cams[0].project(pose.joints) * (width / w0)
+        for a, b in BONES:
+            pa, pb = uv[JOINT_INDEX[a]], uv[JOINT_INDEX[b]]
+            if np.all(np.isfinite(pa)) and np.all(np.isfinite(pb)):
+                cv2.line(small, (int(pa[0]), int(pa[1])), (int(pb[0]), int(pb[1])),
+                         (255, 200, 0), 1, cv2.LINE_AA)
+    scene.inset(small, (scene.width - width - 10, 10, width, height))
+    scene.text("camera + tracker", (scene.width - width - 10, height + 28), 0.5)
