@@ -19,7 +19,7 @@ demo: $(STAMP)
 	$(VENV)/bin/bodyplay demo
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check sdk tests benchmarks tools
+	$(VENV)/bin/ruff check sdk apps tests benchmarks tools
 	$(VENV)/bin/mypy
 
 bench: $(STAMP)

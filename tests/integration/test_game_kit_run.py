@@ -68,8 +68,8 @@ def test_run_writes_video_and_summary_with_stage_times(tmp_path: Path) -> None:
     res = run_game(_Counter(), opts, source=_standing(1.0))
     data = json.loads((tmp_path / "summary.json").read_text())
     assert data["frames"] == 30 and data["tracking_share"] == 1.0
-    assert set(data["timing"]["stage_seconds"]) == {"tracking", "physics", "game", "render",
-                                                     "video"}
+    assert set(data["timing"]["stage_seconds"]) == {"capture", "tracking", "physics", "game",
+                                                     "render", "video"}
     assert res.video_path is not None
     cap = cv2.VideoCapture(str(res.video_path))
     n = int(cap.get(cv2.CAP_PROP_FRAME_COUNT))

@@ -49,6 +49,10 @@ class GoalkeeperGame(Game):
         return VirtualPlayerSource(controller, cameras=options.cameras, seed=options.seed,
                                    size=(640, 480))
 
+    def expected_seconds(self, options: GameOptions) -> float | None:
+        """How long the round planned from the seed lasts (for the progress bar)."""
+        return self.round.round_seconds(Rules.new(self.round, options.seed).shots)
+
     def setup(self, ctx: GameContext) -> None:
         """Plan the round from the seed, listen to contacts, record the hands."""
         self.logic.rules = Rules.new(self.round, ctx.options.seed)

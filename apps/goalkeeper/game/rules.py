@@ -11,6 +11,7 @@ inside the mouth is a goal.
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -60,7 +61,7 @@ class GoalkeeperOptions:
     goal: Goal = Goal()
     ball_radius: float = 0.11
     window: float = 0.3
-    linger: float = 0.7
+    linger: float = 0.5
 
     def __post_init__(self) -> None:
         if not 1 <= self.shots <= 500:
@@ -229,10 +230,8 @@ class GoalkeeperLogic:
             t_cross = (o.goal.distance - world.depth) / shot.speed
             x, y, _ = shot.position(o.goal, t_cross)
             now = float(ctx.pose.t)
-            try:
+            with contextlib.suppress(ConfigError):  # refused: the keeper does not move
                 self.controller.set_target(now + t_cross, (x, y, world.depth), now=now)
-            except ConfigError:
-                pass  # a target the controller refuses: the keeper just does not move
 
     def _resolve(self, b: Ball, t: float, impulse: float = 0.0) -> None:
         """Log the outcome at pose time ``t`` (linger counts from the simulated now)."""

@@ -80,7 +80,7 @@ def plan_round(
         x = float(rng.uniform(0.25, 1.0) * reach * rng.choice((-1.0, 1.0)))
         y = float(rng.uniform(0.3, goal.height - ball_radius - 0.1))
         spin = float(rng.uniform(-1.0, 1.0) * (0.5 + 3.5 * level))
-        wait = float((1.3 - 0.5 * level) * rng.uniform(0.9, 1.1))
+        wait = float((0.9 - 0.35 * level) * rng.uniform(0.9, 1.1))
         start = (float(rng.uniform(-0.3, 0.3)), ball_radius)
         shots.append(Shot(i, start, (x, y), float(speed), spin, wait, float(level)))
     return shots

@@ -34,16 +34,15 @@ def draw_pitch(scene: Scene, goal: Goal) -> None:
     scene.capsule((-w, h, z), (w, h, z), r, _WHITE)
     scene.box((0.0, 0.004, goal.distance), (0.22, 0.008, 0.22), _WHITE)  # penalty spot
     scene.box((0.0, 0.004, z), (2 * w + 0.6, 0.008, 0.06), _WHITE)  # goal line
-    net_r = 0.008
-    for x in np.linspace(-w, w, 15):
-        scene.capsule((x, h, z), (x, h * 0.75, back), net_r, _NET)
-        scene.capsule((x, h * 0.75, back), (x, 0, back), net_r, _NET)
-    for y in np.linspace(0.25, h * 0.75, 5):
-        scene.capsule((-w, y, back), (w, y, back), net_r, _NET)
-    for side in (-w, w):
-        for y in np.linspace(0.25, h, 6):
-            d = back + (z - back) * min(1.0, (y - h * 0.75) / (h * 0.25)) if y > h * 0.75 else back
-            scene.capsule((side, y, z), (side, min(y, h * 0.75), d), net_r, _NET)
+    for x in np.linspace(-w, w, 17):  # the net: roof, back and sides
+        scene.line((x, h, z), (x, h * 0.75, back), _NET)
+        scene.line((x, h * 0.75, back), (x, 0, back), _NET)
+    for y in np.linspace(0.0, h * 0.75, 7):
+        scene.line((-w, y, back), (w, y, back), _NET)
+        for side in (-w, w):
+            scene.line((side, y, z), (side, y, back), _NET)
+    for k in np.linspace(0.0, 1.0, 5):
+        scene.line((-w, h, z + (back - z) * k), (w, h - h * 0.25 * k, z + (back - z) * k), _NET)
 
 
 def draw_ball(scene: Scene, rules: Rules) -> None:

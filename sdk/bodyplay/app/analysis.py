@@ -179,8 +179,8 @@ def plot_hand_motion(
             if left <= x <= w - right:
                 cv2.line(img, (x, top), (x, bottom), m.color[::-1], 1)
         for hand in HANDS:
-            y = bottom - np.clip(series[hand] / vmax, 0.0, 1.0) * ph
-            pts = np.stack([x_of(t), y], axis=1)
+            ys = bottom - np.clip(series[hand] / vmax, 0.0, 1.0) * ph
+            pts = np.stack([x_of(t), ys], axis=1)
             ok = np.all(np.isfinite(pts), axis=1)
             # draw each tracked run as its own polyline (gaps stay gaps)
             edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(np.int8), 0]))

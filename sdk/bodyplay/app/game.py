@@ -32,9 +32,11 @@ if TYPE_CHECKING:
 
 __all__ = ["Game", "GameContext", "STAGES"]
 
-STAGES: tuple[str, ...] = ("tracking", "physics", "game", "render", "video")
-"""The stages the runner times: reading + tracking a frame, the physics world, the
-game's update, drawing the scene (with read-back), encoding the video."""
+STAGES: tuple[str, ...] = ("capture", "tracking", "physics", "game", "render", "video")
+"""The stages the runner times: reading a frame from the source (for a virtual
+player: the synthetic camera rendering it), tracking it (tracker, filters, events),
+the physics world, the game's update, drawing the scene (with read-back), encoding
+the video."""
 
 
 @dataclass(eq=False)
@@ -145,6 +147,10 @@ class Game:
 
     def finish(self, ctx: GameContext) -> None:
         """Called once after the last step, before :meth:`summary` (save plots here)."""
+
+    def expected_seconds(self, options: GameOptions) -> float | None:
+        """Game seconds a round should last (the progress bar's total); None: unknown."""
+        return None
 
     def virtual_player(self, options: GameOptions) -> Any:
         """The embedded default input (``--input virtual``), made before the session:

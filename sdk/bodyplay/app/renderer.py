@@ -4,14 +4,14 @@ Spheres, boxes and capsules are instances of three unit meshes, one instanced dr
 call per kind; free meshes (cloth) are uploaded per frame; the floor is one quad
 checkered in its fragment shader; blob shadows are soft alpha discs just above the
 floor; the HUD (text and insets such as the camera picture) is drawn with OpenCV
-into an RGBA overlay blended over the frame. Shading is two-sided Blinn-Phong with
+onto the read-back picture. Shading is two-sided Blinn-Phong with
 the same lights as :class:`~bodyplay.render.shaded.ShadedRenderer`, and the view
 matrices come from :mod:`bodyplay.render.gl` (a Scene camera is a calibrated
 :class:`~bodyplay.capture.camera.Camera`).
 
 The renderer draws into its own framebuffer; :meth:`SceneRenderer.render` reads it
-back as an RGB image (headless: the video) and :meth:`SceneRenderer.present`
-copies it to the window's screen (the pygame window's context).
+back as an RGB image with the HUD (headless: the video frame) and
+:meth:`SceneRenderer.present` shows such an image on the window's screen.
 """
 
 from __future__ import annotations
@@ -151,6 +151,25 @@ void main() {
 }
 """
 
+_LINE_VS = """
+#version 330
+uniform mat4 vp;
+in vec3 in_pos;
+in vec3 in_color;
+out vec3 v_color;
+void main() {
+    v_color = in_color;
+    gl_Position = vp * vec4(in_pos, 1.0);
+}
+"""
+
+_LINE_FS = """
+#version 330
+in vec3 v_color;
+out vec4 f_color;
+void main() { f_color = vec4(v_color, 1.0); }
+"""
+
 _OVERLAY_VS = """
 #version 330
 out vec2 v_uv;
@@ -163,10 +182,10 @@ void main() {
 
 _OVERLAY_FS = """
 #version 330
-uniform sampler2D hud;
+uniform sampler2D image;
 in vec2 v_uv;
 out vec4 f_color;
-void main() { f_color = texture(hud, v_uv); }
+void main() { f_color = vec4(texture(image, v_uv).rgb, 1.0); }
 """
 
 
@@ -285,25 +304,28 @@ class _Instanced:
 _FONT = cv2.FONT_HERSHEY_DUPLEX
 
 
-def draw_hud(overlay: NDArray[np.uint8], scene: Scene) -> None:
-    """Draw the scene's insets and text into an (H, W, 4) RGBA ``overlay`` (OpenCV)."""
-    h, w = overlay.shape[:2]
+def draw_hud(image: NDArray[np.uint8], scene: Scene) -> None:
+    """Draw the scene's insets and text onto an (H, W, 3) RGB ``image`` (OpenCV, in
+    place): the HUD goes on the read-back picture, which costs far less than
+    blending a full-screen overlay texture on a software GL."""
+    h, w = image.shape[:2]
     for ins in scene.insets:
         x, y, iw, ih = ins.rect
         x0, y0, x1, y1 = max(x, 0), max(y, 0), min(x + iw, w), min(y + ih, h)
         if x1 <= x0 or y1 <= y0:
             continue
-        img = cv2.resize(ins.image, (iw, ih), interpolation=cv2.INTER_AREA)
-        overlay[y0:y1, x0:x1, :3] = img[y0 - y:y1 - y, x0 - x:x1 - x]
-        overlay[y0:y1, x0:x1, 3] = 255
+        img: NDArray[np.uint8] = ins.image
+        if img.shape[:2] != (ih, iw):
+            img = np.asarray(cv2.resize(img, (iw, ih), interpolation=cv2.INTER_AREA), np.uint8)
+        image[y0:y1, x0:x1] = img[y0 - y:y1 - y, x0 - x:x1 - x]
         if ins.border is not None:
-            c = tuple(int(255 * v) for v in ins.border) + (255,)
-            cv2.rectangle(overlay, (x0, y0), (x1 - 1, y1 - 1), c, 2)
+            c = tuple(int(255 * v) for v in ins.border)
+            cv2.rectangle(image, (x0, y0), (x1 - 1, y1 - 1), c, 2)
     for item in scene.texts:
-        _put_text(overlay, item)
+        _put_text(image, item)
 
 
-def _put_text(overlay: NDArray[np.uint8], item: TextItem) -> None:
+def _put_text(image: NDArray[np.uint8], item: TextItem) -> None:
     scale = 0.62 * item.size
     thick = max(1, int(round(1.6 * item.size)))
     (tw, _), _ = cv2.getTextSize(item.text, _FONT, scale, thick)
@@ -315,10 +337,10 @@ def _put_text(overlay: NDArray[np.uint8], item: TextItem) -> None:
     org = (int(round(x)), int(round(y)))
     if item.outline:  # a drop shadow keeps the text readable on sky and grass
         off = max(1, thick)
-        cv2.putText(overlay, item.text, (org[0] + off, org[1] + off), _FONT, scale,
-                    (0, 0, 0, 170), thick + 1, cv2.LINE_AA)
-    c = tuple(int(255 * v) for v in item.color) + (255,)
-    cv2.putText(overlay, item.text, org, _FONT, scale, c, thick, cv2.LINE_AA)
+        cv2.putText(image, item.text, (org[0] + off, org[1] + off), _FONT, scale,
+                    (0, 0, 0), thick, cv2.LINE_AA)
+    c = tuple(int(255 * v) for v in item.color)
+    cv2.putText(image, item.text, org, _FONT, scale, c, thick, cv2.LINE_AA)
 
 
 class SceneRenderer:
@@ -347,6 +369,10 @@ class SceneRenderer:
         self._floor = c.program(vertex_shader=_FLOOR_VS, fragment_shader=_FLOOR_FS)
         self._shadow = c.program(vertex_shader=_SHADOW_VS, fragment_shader=_SHADOW_FS)
         self._overlay = c.program(vertex_shader=_OVERLAY_VS, fragment_shader=_OVERLAY_FS)
+        self._line = c.program(vertex_shader=_LINE_VS, fragment_shader=_LINE_FS)
+        self._line_vbo = c.buffer(reserve=64 * 24, dynamic=True)
+        self._line_vao = c.vertex_array(self._line,
+                                        [(self._line_vbo, "3f 3f", "in_pos", "in_color")])
         self._sphere = _Instanced(c, self._lit, _unit_sphere())
         self._box = _Instanced(c, self._lit, _unit_box())
         self._cyl = _Instanced(c, self._lit, _unit_cylinder())
@@ -373,8 +399,8 @@ class SceneRenderer:
             index_buffer=self._mesh_ibo, index_element_size=4,
         )
         self._overlay_vao = c.vertex_array(self._overlay, [])
-        self._hud_tex = c.texture((self.width, self.height), 4)
-        self._hud = np.zeros((self.height, self.width, 4), np.uint8)
+        self._screen_tex = c.texture((self.width, self.height), 3)
+        self._screen_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
         size = (self.width, self.height)
         self._color = c.renderbuffer(size, 3)
         self._depth = c.depth_renderbuffer(size)
@@ -423,8 +449,7 @@ class SceneRenderer:
         if self._released:
             raise GLContextError("this SceneRenderer was released; create a new one")
         c = self.ctx
-        if self._owns_ctx:
-            make_current(c)
+        make_current(c)  # another context (a synthetic camera's) may be current
         target = self._ms_fbo if self._ms_fbo is not None else self._fbo
         target.use()
         target.clear(*scene.sky, 1.0, depth=1.0)
@@ -465,6 +490,17 @@ class SceneRenderer:
                            bx[:, 7:10].astype(np.float32))
         for m in scene.meshes:
             self._draw_mesh(m.vertices, m.faces, m.colors, m.two_sided)
+        if scene.lines:
+            ln = np.asarray(scene.lines, np.float32)
+            data = np.ascontiguousarray(
+                np.stack([np.hstack([ln[:, 0:3], ln[:, 6:9]]), np.hstack([ln[:, 3:6], ln[:, 6:9]])],
+                         axis=1).reshape(-1, 6)
+            )
+            if data.nbytes > self._line_vbo.size:
+                self._line_vbo.orphan(int(data.nbytes * 1.5))
+            self._line_vbo.write(data.tobytes())
+            self._line["vp"].write(vp)  # type: ignore[union-attr]
+            self._line_vao.render(moderngl.LINES, vertices=len(data))
         if scene.shadows:
             sh = np.ascontiguousarray(scene.shadows, np.float32)
             if sh.nbytes > self._shadow_inst.size:
@@ -476,16 +512,6 @@ class SceneRenderer:
             target.depth_mask = False
             self._shadow_vao.render(moderngl.TRIANGLES, vertices=6, instances=len(sh))
             target.depth_mask = True
-            c.disable(moderngl.BLEND)
-        if scene.texts or scene.insets:
-            self._hud[:] = 0
-            draw_hud(self._hud, scene)
-            self._hud_tex.write(self._hud.tobytes())
-            self._hud_tex.use(0)
-            c.disable(moderngl.DEPTH_TEST)
-            c.enable(moderngl.BLEND)
-            c.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-            self._overlay_vao.render(moderngl.TRIANGLES, vertices=3)
             c.disable(moderngl.BLEND)
         if self._ms_fbo is not None:
             c.copy_framebuffer(self._fbo, self._ms_fbo)
@@ -505,32 +531,48 @@ class SceneRenderer:
         self.ctx.disable(moderngl.CULL_FACE)
 
     def render(self, scene: Scene) -> NDArray[np.uint8]:
-        """Draw ``scene`` and return the picture: (H, W, 3) RGB uint8, top row first."""
+        """Draw ``scene`` with its HUD and return the picture: (H, W, 3) RGB uint8,
+        top row first."""
         self.draw(scene)
-        return self.read()
+        img = self.read()
+        if scene.texts or scene.insets:
+            draw_hud(img, scene)
+        return img
 
     def read(self) -> NDArray[np.uint8]:
         """The last drawn picture as (H, W, 3) RGB uint8, top row first."""
-        if self._owns_ctx:
-            make_current(self.ctx)
+        make_current(self.ctx)
         self._fbo.read_into(self._rgb, components=3, alignment=1)
         img = np.frombuffer(self._rgb, np.uint8).reshape(self.height, self.width, 3)
         return np.ascontiguousarray(img[::-1])
 
-    def present(self) -> None:
-        """Copy the last drawn picture to the context's screen (a window)."""
-        self.ctx.copy_framebuffer(self.ctx.screen, self._fbo)
+    def present(self, image: NDArray[np.uint8]) -> None:
+        """Show an (H, W, 3) RGB picture (from :meth:`render`) on the context's screen
+        (a window), stretched to it."""
+        make_current(self.ctx)
+        self._screen_tex.write(np.ascontiguousarray(image).tobytes())
+        self._screen_tex.use(0)
+        self.ctx.screen.use()
+        self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        self._overlay_vao.render(moderngl.TRIANGLES, vertices=3)
 
     def release(self) -> None:
         """Free every GL object (and the context if this renderer created it)."""
         if self._released:
             return
         self._released = True
+        make_current(self.ctx)
+        self._release_objects()
+        if self._owns_ctx:
+            self.ctx.release()
+
+    def _release_objects(self) -> None:
         for inst in (self._sphere, self._box, self._cyl, self._cap):
             inst.release()
         objs: list[Any] = [
             self._floor_vao, self._shadow_vao, self._mesh_vao, self._overlay_vao, self._quad,
-            self._shadow_inst, self._mesh_vbo, self._mesh_ibo, self._mesh_inst, self._hud_tex,
+            self._line_vao, self._line_vbo, self._line,
+            self._shadow_inst, self._mesh_vbo, self._mesh_ibo, self._mesh_inst, self._screen_tex,
             self._fbo, self._color, self._depth, self._lit, self._floor, self._shadow,
             self._overlay, *self._ms,
         ]
@@ -538,8 +580,6 @@ class SceneRenderer:
             objs.append(self._ms_fbo)
         for o in objs:
             o.release()
-        if self._owns_ctx:
-            self.ctx.release()
 
     def __enter__(self) -> SceneRenderer:
         return self

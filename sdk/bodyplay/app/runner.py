@@ -54,6 +54,33 @@ class GameResult:
     context: GameContext
 
 
+class _TimedSource:
+    """Wraps a session's source to time reading each frame (the ``capture`` stage)."""
+
+    def __init__(self, source: Any, ctx: GameContext) -> None:
+        self._source = source
+        self._ctx = ctx
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._source, name)
+
+    def __len__(self) -> int:
+        return len(self._source)
+
+    def __iter__(self) -> Any:
+        it = iter(self._source)
+        times = self._ctx.stage_times
+        while True:
+            t0 = time.perf_counter()
+            try:
+                item = next(it)
+            except StopIteration:
+                return
+            finally:
+                times["capture"] += time.perf_counter() - t0
+            yield item
+
+
 class _Loop:
     """The state of one run (kept out of the public API)."""
 
@@ -77,6 +104,7 @@ class _Loop:
         self.user_paused = False
         self.found_once = False
         self.first_t: float | None = None
+        session.source = _TimedSource(session.source, self.ctx)
         session.subscribe("pose", self._on_pose)
         session.subscribe("tracking", self._on_tracking)
         session.add_frame_listener(self._on_item)
@@ -131,10 +159,11 @@ class _Loop:
     def step(self) -> bool:
         """Consume one frame; False when the input ended."""
         ctx = self.ctx
-        before = ctx.stage_times["physics"]
+        st = ctx.stage_times
+        before = st["physics"] + st["capture"]
         t0 = time.perf_counter()
         pose = ctx.session.step()
-        inner = ctx.stage_times["physics"] - before
+        inner = st["physics"] + st["capture"] - before
         ctx.stage_times["tracking"] += time.perf_counter() - t0 - inner
         if ctx.session.done:
             return False
@@ -183,15 +212,23 @@ class _Loop:
         return scene
 
 
-def _expected_frames(options: GameOptions, inp: GameInput) -> int | None:
+def _expected_frames(game: Game, options: GameOptions, inp: GameInput) -> int | None:
+    """Frames the progress bar expects: the input's length, the seconds asked for or
+    the game's own estimate of a round, whichever is known and smallest."""
     src = inp.session.source
-    n = None
+    n: int | None
     try:
         n = len(src)
     except TypeError:
         n = None
-    if options.seconds is not None:
-        k = int(math.ceil(options.seconds * inp.fps)) + 1
+    seconds = options.seconds
+    if seconds is None:
+        try:
+            seconds = game.expected_seconds(options)
+        except Exception:
+            seconds = None
+    if seconds is not None:
+        k = int(math.ceil(seconds * inp.fps)) + 1
         n = k if n is None else min(n, k)
     return n
 
@@ -239,7 +276,7 @@ def run_game(
         if headless and options.progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=_expected_frames(options, inp), unit="frame", desc=game.name,
+            bar = tqdm(total=_expected_frames(game, options, inp), unit="frame", desc=game.name,
                        leave=False)
         next_video = 0.0
         while not ctx.finished:
@@ -273,12 +310,11 @@ def run_game(
             if not (due or win is not None):
                 continue
             with ctx.timed("render"):
-                renderer.draw(loop.scene())
-                image = renderer.read() if due else None
+                image = renderer.render(loop.scene())
                 if win is not None:
-                    renderer.present()
+                    renderer.present(image)
                     win.flip()
-            if image is not None:
+            if due:
                 with ctx.timed("video"):
                     while t_rel >= next_video - 1e-9:
                         writer.write(image)

@@ -114,6 +114,7 @@ class Scene:
     spheres: list[tuple[float, ...]] = field(default_factory=list)
     boxes: list[tuple[float, ...]] = field(default_factory=list)
     capsules: list[tuple[float, ...]] = field(default_factory=list)
+    lines: list[tuple[float, ...]] = field(default_factory=list)
     shadows: list[tuple[float, ...]] = field(default_factory=list)
     meshes: list[MeshItem] = field(default_factory=list)
     texts: list[TextItem] = field(default_factory=list)
@@ -169,10 +170,13 @@ class Scene:
             return
         self.capsules.append((*pa.tolist(), *pb.tolist(), float(radius), *_color(color)))
 
-    def line(self, a: ArrayLike, b: ArrayLike, color: ArrayLike = (1, 1, 1),
-             width: float = 0.01) -> None:
-        """A thin rod from ``a`` to ``b`` (a capsule of diameter ``width`` m)."""
-        self.capsule(a, b, width / 2.0, color)
+    def line(self, a: ArrayLike, b: ArrayLike, color: ArrayLike = (1, 1, 1)) -> None:
+        """A one-pixel unlit line from ``a`` to ``b`` (nets, guides; far cheaper than
+        a capsule: use :meth:`capsule` for rods that must look round)."""
+        pa, pb = _point(a, "line end a"), _point(b, "line end b")
+        if not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))):
+            return
+        self.lines.append((*pa.tolist(), *pb.tolist(), *_color(color)))
 
     def floor(
         self,
@@ -323,5 +327,5 @@ class Scene:
     @property
     def empty(self) -> bool:
         """Whether nothing 3-D was added."""
-        return not (self.spheres or self.boxes or self.capsules or self.meshes
+        return not (self.spheres or self.boxes or self.capsules or self.lines or self.meshes
                     or self.floor_spec or self.shadows)
