@@ -16,7 +16,7 @@ test: $(STAMP)
 	$(PY) -m pytest -q
 
 demo: $(STAMP)
-	$(VENV)/bin/bodyplay demo
+	$(PY) -m apps.goalkeeper --headless --out out/goalkeeper
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check sdk apps tests benchmarks tools

@@ -84,6 +84,7 @@ class Ball:
     obj: PhysicsObject
     kicked: float
     z: float
+    kicked_t: float = 0.0
     saved_at: float | None = None
     z_at_save: float = 0.0
     outcome: str = ""
@@ -217,7 +218,8 @@ class GoalkeeperLogic:
         obj = world.add_ball(shot.start, (vx, vy), radius=o.ball_radius, mass=0.43,
                              name=f"ball{shot.index}", elasticity=0.7)
         obj.shapes[0].filter = _NO_COLLISION
-        ball = Ball(shot, obj, sim_time(world), o.goal.distance)
+        ball = Ball(shot, obj, sim_time(world), o.goal.distance,
+                    kicked_t=float(ctx.pose.t) if ctx.pose is not None else 0.0)
 
         def velocity(body: pymunk.Body, gravity: Any, damping: float, dt: float) -> None:
             spin = shot.spin if not ball.outcome else 0.0
@@ -241,6 +243,7 @@ class GoalkeeperLogic:
         x, y, z = b.position
         entry: dict[str, Any] = {
             "shot": b.shot.index, "outcome": b.outcome, "t": round(t, 4),
+            "kicked_t": round(b.kicked_t, 4),
             "speed": round(b.shot.speed, 3), "spin": round(b.shot.spin, 3),
             "target": [round(v, 3) for v in b.shot.target], "level": round(b.shot.level, 3),
             "ball": [round(x, 3), round(y, 3), round(z, 3)],

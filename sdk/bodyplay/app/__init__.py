@@ -12,13 +12,12 @@ from bodyplay.app.game import STAGES, Game, GameContext
 from bodyplay.app.inputs import GameInput, open_game_input
 from bodyplay.app.options import VIRTUAL_INPUT, GameOptions, display_available, make_game_options
 from bodyplay.app.renderer import SceneRenderer
-from bodyplay.app.runner import NO_PLAYER_SECONDS, GameResult, run_game
+from bodyplay.app.runner import GameResult, run_game
 from bodyplay.app.scene import AVATAR_COLOR, LOST_COLOR, Scene
 
 __all__ = [
     "AVATAR_COLOR",
     "LOST_COLOR",
-    "NO_PLAYER_SECONDS",
     "STAGES",
     "VIRTUAL_INPUT",
     "Game",

@@ -43,7 +43,9 @@ class GameOptions:
     ``video_fps``: frames per second of the video. ``realtime``: pace recorded
     and virtual input to the wall clock (None: only in a window).
     ``pause_when_lost``: pause the game while the tracker has lost the player.
-    ``progress``: show a progress bar on headless runs.
+    ``progress``: show a progress bar on headless runs. ``no_player_seconds``: image
+    input that never shows the player this long stops with an error (a capture
+    without the shirt, a camera pointing elsewhere).
     """
 
     input: str = VIRTUAL_INPUT
@@ -61,6 +63,7 @@ class GameOptions:
     realtime: bool | None = None
     pause_when_lost: bool = True
     progress: bool = True
+    no_player_seconds: float = 6.0
 
     @property
     def is_headless(self) -> bool:
@@ -125,6 +128,8 @@ def make_game_options(base: GameOptions | None = None, **changes: Any) -> GameOp
             raise ConfigError(f"{name} must be an integer number of pixels in 64..4096, got {v!r}")
     if not (math.isfinite(o.update_hz) and 10.0 <= o.update_hz <= 1000.0):
         raise ConfigError(f"update_hz must be in 10..1000 steps a second, got {o.update_hz!r}")
+    if not (math.isfinite(o.no_player_seconds) and o.no_player_seconds > 0):
+        raise ConfigError(f"no_player_seconds must be positive, got {o.no_player_seconds!r}")
     if not (math.isfinite(o.video_fps) and 1.0 <= o.video_fps <= 240.0):
         raise ConfigError(f"video_fps must be in 1..240, got {o.video_fps!r}")
     return o

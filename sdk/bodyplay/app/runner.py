@@ -34,13 +34,9 @@ from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError
 from bodyplay.events.types import PoseEvent, TrackingEvent
 
-__all__ = ["GameResult", "run_game", "NO_PLAYER_SECONDS"]
+__all__ = ["GameResult", "run_game"]
 
 _log = logging.getLogger("bodyplay.app")
-
-NO_PLAYER_SECONDS = 6.0
-"""Seconds of image input without ever finding the player before the run stops with
-an error (a capture without the shirt, a camera pointing elsewhere)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,9 +173,9 @@ class _Loop:
         elapsed = 0.0 if self._prev_t is None else pose.t - self._prev_t
         self._prev_t = pose.t
         if (not self.found_once and self.inp.kind != "custom"
-                and pose.t - self.first_t > NO_PLAYER_SECONDS):
+                and pose.t - self.first_t > self.options.no_player_seconds):
             raise CaptureError(
-                f"no player found in the first {NO_PLAYER_SECONDS:.0f} s of "
+                f"no player found in the first {self.options.no_player_seconds:g} s of "
                 f"{self.inp.description}: the player must stand in view"
                 + (" wearing the printed color shirt (`bodyplay shirt`)"
                    if self.options.tracker == "colorshirt" and self.inp.kind != "clip" else "")
