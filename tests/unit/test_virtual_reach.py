@@ -65,7 +65,8 @@ def test_idle_motion_rejects_a_segment_outside_the_clip(actor_skeleton) -> None:
 @pytest.mark.parametrize(
     ("target", "effector"),
     [((0.5, 1.25, 0.3), "left"), ((-0.55, 1.5, 0.3), "right"), ((0.0, 1.1, 0.35), "both"),
-     ((0.02, 1.63, 0.25), "head"), ((-0.35, 0.8, 0.35), "right"), ((0.9, 1.0, 0.3), "left")],
+     ((0.02, 1.63, 0.25), "head"), ((-0.35, 0.8, 0.35), "right"), ((0.9, 1.0, 0.3), "left"),
+     ((0.4, 0.3, 0.35), "left"), ((0.0, 0.35, 0.4), "both")],
 )
 def test_keeper_reaches_reachable_targets_by_the_arrival(keeper, target, effector) -> None:
     keeper.pose_at(0.0)
@@ -81,6 +82,29 @@ def test_far_ball_makes_the_keeper_step_and_near_ball_does_not(keeper) -> None:
     far = keeper.set_target(3.0, (1.1, 1.2, 0.3), now=2.0)
     assert np.linalg.norm(near.reach.shift) < 0.05
     assert far.reach.shift[0] > 0.15 and far.reachable
+
+
+def test_low_ball_makes_the_keeper_crouch_with_the_feet_planted(keeper, actor_skeleton) -> None:
+    base = actor_skeleton.joint_positions(keeper.base_at(1.0))
+    plan = keeper.set_target(1.0, (-0.35, 0.3, 0.35), now=0.0)
+    assert plan.reachable and plan.reach.shift[1] < -0.15
+    j = keeper.joints_at(1.0)
+    assert j[0, 1] < base[0, 1] - 0.15  # the pelvis went down
+    # the ankles stay on the floor; only the leading (right) foot may step sideways
+    np.testing.assert_allclose(j[[13, 16], 1], base[[13, 16], 1], atol=0.01)
+    assert np.linalg.norm(j[13] - base[13]) < 0.02
+    assert j[15, 1] < base[15, 1] - 0.05  # the knees bend
+
+
+def test_a_step_moves_the_leading_foot_and_keeps_the_trailing_one(keeper, actor_skeleton) -> None:
+    base = actor_skeleton.joint_positions(keeper.base_at(1.0))
+    plan = keeper.set_target(1.0, (1.05, 1.15, 0.3), now=0.0)
+    assert plan.reachable and plan.reach.shift[0] > 0.15
+    j = keeper.joints_at(1.0)
+    moved = j[[13, 16]] - base[[13, 16]]
+    assert moved[0, 0] > 0.1  # left foot leads to the left
+    assert np.linalg.norm(moved[1]) < 0.02  # right foot planted
+    np.testing.assert_allclose(j[[13, 16], 1], base[[13, 16], 1], atol=0.01)
 
 
 def test_unreachable_target_is_approached_within_joint_limits(keeper, actor_skeleton) -> None:
@@ -143,6 +167,7 @@ def test_pose_is_continuous_through_retargets_and_the_return(keeper, actor_skele
             keeper.set_target(1.1, (-0.6, 1.1, 0.3), now=float(t))
         poses.append(keeper.pose_at(float(t)))
     joints = actor_skeleton.joint_positions(np.stack(poses))
+    assert joints[:, [13, 16], 1].min() > 0.08  # the feet never sink into the floor
     step = np.linalg.norm(np.diff(joints, axis=0), axis=-1).max()
     assert step < 8.0 * dt  # no joint faster than 8 m/s anywhere: no jumps
     np.testing.assert_allclose(keeper.pose_at(3.4), keeper.base_at(3.4), atol=1e-9)

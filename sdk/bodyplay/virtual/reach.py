@@ -73,7 +73,8 @@ class ReachOptions:
     palm speed of a reach (``return_speed`` of the way back); ``min_move_time`` /
     ``preferred_move_time``: shortest and usual reach durations; ``arrive_early``:
     how long before the ball the reach completes; ``hold``: how long it is held
-    after the arrival; ``max_step``: the largest sideways step; ``both_hands_width``
+    after the arrival; ``max_step``: the largest sideways step; ``max_crouch``:
+    the deepest drop of the pelvis (knees bend, feet stay planted); ``both_hands_width``
     / ``head_width``: half-widths about the body's midline where both hands / the
     head are used; ``use_head``: allow headers; ``hands_gap``: palm spacing of a
     two-handed catch; ``palm``: where on the hand bone the contact point is (0
@@ -92,6 +93,7 @@ class ReachOptions:
     arrive_early: float = 0.05
     hold: float = 0.3
     max_step: float = 0.5
+    max_crouch: float = 0.35
     both_hands_width: float = 0.22
     head_width: float = 0.14
     use_head: bool = True
@@ -114,7 +116,8 @@ def make_reach_options(**kwargs: Any) -> ReachOptions:
         "reaction_time": (0.0, 2.0), "max_hand_speed": (0.1, 20.0),
         "return_speed": (0.1, 20.0), "min_move_time": (0.02, 3.0),
         "preferred_move_time": (0.02, 5.0), "arrive_early": (0.0, 1.0), "hold": (0.0, 10.0),
-        "max_step": (0.0, 2.0), "both_hands_width": (0.0, 1.0), "head_width": (0.0, 0.5),
+        "max_step": (0.0, 2.0), "max_crouch": (0.0, 0.6), "both_hands_width": (0.0, 1.0),
+        "head_width": (0.0, 0.5),
         "hands_gap": (0.0, 0.6), "palm": (0.0, 1.0), "reach_tolerance": (0.001, 1.0),
     }
     if o.stance not in STANCES:
@@ -305,6 +308,7 @@ class ReachController:
                 head_width=o.head_width, use_head=o.use_head,
             )
         reach = solve_reach(self.skeleton, base, p, effector, max_step=o.max_step,
+                            max_crouch=o.max_crouch,
                             hands_gap=o.hands_gap, palm=o.palm, weights=self.weights)
         react = n + o.reaction_time
         length = self._path_length(self.pose_at(react), reach.pose, effector)

@@ -9,17 +9,20 @@ over the joints a keeper would use, every one inside the skeleton's joint limits
 * the arm(s): clavicle, shoulder (3 DOF each) and the elbow hinge;
 * the trunk: lumbar and thorax (lean sideways, forwards, twist);
 * for a header, also the neck and head;
-* a step: the whole body moves horizontally by up to ``max_step`` metres.
+* a step: the whole body moves horizontally by up to ``max_step`` metres;
+* a crouch: the pelvis drops by up to ``max_crouch`` metres.
 
 Besides the effector's distance to the target, each group costs its distance from
 the idle pose with its own weight (arms are cheap, leaning dearer, stepping dearest),
 so a keeper moves an arm for a ball it can reach, leans for a wider one and steps
-only for one still further out. A second pass with a tenth of those weights
-polishes the contact to millimetres. :func:`choose_effector` picks the effector
-from where the target is relative to the body.
+(or crouches, for a low one) only for one still further out. The legs then follow
+(:mod:`~bodyplay.virtual.legs`): the feet stay on the floor, the leading one steps.
+A second pass with a tenth of those weights polishes the contact to millimetres.
+:func:`choose_effector` picks the effector from where the target is relative to
+the body.
 
-Simplification (named in docs/virtual-players.md): the step slides the whole body;
-the legs are not re-solved to keep the feet planted.
+Simplification (named in docs/virtual-players.md): the stepping foot glides to
+its new place during the blend (it is not lifted).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.rotations import matrix_to_rotvec, rotation_between, rotvec_to_matrix
 from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.errors import ConfigError
+from bodyplay.virtual.legs import LEG_INDICES, leg_reach, plant_feet
 
 __all__ = ["EFFECTORS", "ReachPose", "ReachWeights", "body_axes", "choose_effector",
            "effector_points", "solve_reach"]
@@ -55,7 +59,9 @@ def _comp(node: str, axes: tuple[int, ...] = (0, 1, 2)) -> list[int]:
 class ReachWeights:
     """Cost per radian (or metre, for ``step``) of moving each group away from idle.
 
-    The effector's error costs 1 per metre; these are relative to it.
+    The effector's error costs 1 per metre; these are relative to it. ``legs`` is
+    the cost per metre of stretching a leg past its reach from the spot its foot
+    stood on (so a wide step crouches rather than drag the trailing foot).
     """
 
     arm: float = 0.01
@@ -63,6 +69,8 @@ class ReachWeights:
     trunk: float = 0.08
     neck: float = 0.05
     step: float = 0.15
+    crouch: float = 0.2
+    legs: float = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,9 +78,10 @@ class ReachPose:
     """A solved reach: the pose vector and which of its values the reach sets.
 
     ``indices``/``values``: the pose-vector components the reach moved (joint
-    rotations, absolute in their parent frames); ``shift``: the horizontal body step
-    (x, 0, z) metres; ``error``: metres from the effector point(s) to the target(s)
-    (the worst, for two hands); ``targets``: (1 or 2, 3) points the effector(s) aim at.
+    rotations, absolute in their parent frames, legs included after a step or a
+    crouch); ``shift``: the root's move (x, y, z) metres (a step, a crouch);
+    ``error``: metres from the effector point(s) to the target(s) (the worst, for
+    two hands); ``targets``: (1 or 2, 3) points the effector(s) aim at.
     """
 
     effector: str
@@ -135,8 +144,12 @@ def effector_points(
 ) -> NDArray[np.float64]:
     """(..., k, 3) effector points of poses: palm(s) (``palm`` of the way from the
     wrist to the hand's end) or the head centre; k = 2 for ``"both"`` (left, right)."""
-    nodes = skeleton.node_positions(poses)
+    return _effector_from_nodes(skeleton.node_positions(poses), effector, palm)
 
+
+def _effector_from_nodes(
+    nodes: NDArray[np.float64], effector: str, palm: float
+) -> NDArray[np.float64]:
     def palm_of(side: str) -> NDArray[np.float64]:
         w, h = nodes[..., _N[f"{side}_wrist"], :], nodes[..., _N[f"{side}_hand"], :]
         return np.asarray(w + palm * (h - w))
@@ -155,7 +168,8 @@ def _groups(effector: str, body: bool) -> list[tuple[list[int], str]]:
     (``body``: also the trunk and a step)."""
     groups: list[tuple[list[int], str]] = []
     if body:
-        groups += [(_comp("lumbar"), "trunk"), (_comp("thorax"), "trunk"), ([0, 2], "step")]
+        groups += [(_comp("lumbar"), "trunk"), (_comp("thorax"), "trunk"), ([0, 2], "step"),
+                   ([1], "crouch")]
     sides = {"left": ("l",), "right": ("r",), "both": ("l", "r")}.get(effector, ())
     for s in sides:
         groups.append((_comp(f"{s}_clavicle"), "clavicle"))
@@ -192,6 +206,7 @@ def solve_reach(
     effector: str,
     *,
     max_step: float = 0.5,
+    max_crouch: float = 0.35,
     hands_gap: float = 0.18,
     palm: float = 0.5,
     weights: ReachWeights | None = None,
@@ -200,8 +215,10 @@ def solve_reach(
     """Pose ``skeleton`` from ``base`` so ``effector`` touches ``target`` (see module doc).
 
     ``hands_gap``: metres between the palms of a two-handed catch (across the body);
-    ``max_step``: the largest horizontal step, metres; ``body=False`` moves only the
-    arms (or neck and head): no lean, no step.
+    ``max_step``: the largest horizontal step, ``max_crouch`` the deepest drop of the
+    pelvis, metres; ``body=False`` moves only the arms (or neck and head): no lean,
+    no step, no crouch. After a step or a crouch the legs are re-solved so the feet
+    stay on the floor (:func:`~bodyplay.virtual.legs.plant_feet`).
     """
     w = weights or ReachWeights()
     q0 = np.asarray(base, dtype=np.float64).reshape(-1)
@@ -214,6 +231,8 @@ def solve_reach(
         raise ConfigError(f"unknown effector {effector!r}; choose one of {', '.join(EFFECTORS)}")
     if not 0.0 <= max_step <= 2.0:
         raise ConfigError(f"max_step {max_step} m must be within 0..2")
+    if not 0.0 <= max_crouch <= 0.6:
+        raise ConfigError(f"max_crouch {max_crouch} m must be within 0..0.6")
     _, left, _ = body_axes(skeleton, q0)
     if effector == "both":
         targets = np.stack([p + 0.5 * hands_gap * left, p - 0.5 * hands_gap * left])
@@ -228,6 +247,10 @@ def solve_reach(
     is_step = np.isin(idx, [0, 2])
     lo[is_step] = q0[idx[is_step]] - max_step
     hi[is_step] = q0[idx[is_step]] + max_step
+    is_drop = idx == 1
+    lo[is_drop] = q0[1] - max_crouch
+    hi[is_drop] = q0[1]
+    is_root = is_step | is_drop
     span = np.maximum(hi - lo, 1e-9)
     lo_in, hi_in = lo + 1e-6 * span, hi - 1e-6 * span
     ref = np.clip(q0[idx], lo, hi)
@@ -245,16 +268,31 @@ def solve_reach(
     steps = np.full(n, _FD_STEP)
     rows = np.arange(n)
 
+    hips = [_N["l_hip"], _N["r_hip"]]
+    ankles = skeleton.node_positions(q0)[[_N["l_ankle"], _N["r_ankle"]]]
+    reach = np.array([leg_reach(skeleton, "l"), leg_reach(skeleton, "r")])
+    leg_w = w.legs if body else 0.0
+
+    def points(poses: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(..., k*3 + 1): effector points, then how far the farther planted foot is
+        beyond its leg's reach (a step or crouch must leave one foot where it was)."""
+        nodes = skeleton.node_positions(poses)
+        pts = _effector_from_nodes(nodes, effector, palm)
+        over = np.linalg.norm(nodes[..., hips, :] - ankles, axis=-1) - reach
+        excess = leg_w * np.maximum(np.max(over, axis=-1), 0.0)
+        return np.concatenate([pts.reshape(pts.shape[:-2] + (-1,)), excess[..., None]], -1)
+
+    goal = np.concatenate([targets.ravel(), [0.0]])
+
     def residual(x: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
         q[idx] = x
-        pts = effector_points(skeleton, q, effector, palm)
-        return np.concatenate([(pts - targets).ravel(), scale * cost * (x - ref)])
+        return np.concatenate([points(q) - goal, scale * cost * (x - ref)])
 
     def jacobian(x: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
         # forward differences, every perturbed pose in one batched FK call
         batch[:, idx] = x
         batch[rows + 1, idx] += steps
-        pts = effector_points(skeleton, batch, effector, palm).reshape(n + 1, -1)
+        pts = points(batch)
         jac_eff = ((pts[1:] - pts[0]) / steps[:, None]).T
         return np.vstack([jac_eff, np.diag(scale * cost)])
 
@@ -267,8 +305,11 @@ def solve_reach(
     pose[idx] = x
     err = float(np.max(np.linalg.norm(
         effector_points(skeleton, pose, effector, palm) - targets, axis=-1)))
-    shift = np.zeros(3)
-    shift[0], shift[2] = pose[0] - q0[0], pose[2] - q0[2]
-    rot = ~is_step
-    return ReachPose(effector=effector, pose=pose, indices=idx[rot], values=x[rot],
+    shift = pose[:3] - q0[:3]
+    indices, values = idx[~is_root], x[~is_root]
+    if float(np.linalg.norm(shift)) > 1e-4:
+        pose = plant_feet(skeleton, q0, pose, left)
+        indices = np.concatenate([indices, LEG_INDICES])
+        values = np.concatenate([values, pose[LEG_INDICES]])
+    return ReachPose(effector=effector, pose=pose, indices=indices, values=values,
                      shift=shift, error=err, targets=targets)
