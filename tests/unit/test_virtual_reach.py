@@ -188,6 +188,25 @@ def test_same_calls_give_the_same_poses(actor_skeleton, idle) -> None:
     np.testing.assert_array_equal(run(), run())
 
 
+def test_imperfect_keeper_misjudges_by_about_aim_error_and_repeats_per_seed(
+    actor_skeleton, idle
+) -> None:
+    def misses(seed: int) -> np.ndarray:
+        c = ReachController(actor_skeleton, idle=idle, seed=seed,
+                            options=make_reach_options(aim_error=0.1, reaction_jitter=0.05))
+        out = []
+        for k in range(12):
+            target = np.array([0.5 if k % 2 else -0.5, 1.3, 0.3])
+            plan = c.set_target(2.0 * k + 1.0, target, now=2.0 * k)
+            out.append(np.linalg.norm(c.effector_at(plan.arrival, plan.effector)[0] - target))
+        return np.asarray(out)
+
+    a, b = misses(1), misses(1)
+    np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(a, misses(2))
+    assert 0.05 < float(np.median(a)) < 0.25  # about 0.1 m per axis of the plane
+
+
 def test_set_target_rejects_bad_points_times_and_effectors(keeper) -> None:
     keeper.pose_at(1.0)
     with pytest.raises(ConfigError, match="3-D point"):

@@ -82,7 +82,12 @@ class ReachOptions:
     farther than this from the target is reported as not reachable. ``stance``:
     ``"ready"`` (a keeper's: the palms held in front, ``ready_hands`` = half the
     distance between them, their height above the pelvis and how far forward) or
-    ``"relaxed"`` (the mocap idle's arms, hanging).
+    ``"relaxed"`` (the mocap idle's arms, hanging). An imperfect keeper:
+    ``aim_error`` (m) is the standard deviation of a Gaussian misjudgment of where the
+    ball crosses (per axis of the keeper's plane), ``reaction_jitter`` (s) that of
+    its reaction time (never below half of ``reaction_time``); both drawn from the
+    controller's seeded generator, one draw per ball. 0 (the default): a perfect
+    keeper.
     """
 
     reaction_time: float = 0.2
@@ -100,6 +105,8 @@ class ReachOptions:
     hands_gap: float = 0.18
     palm: float = 0.5
     reach_tolerance: float = 0.04
+    aim_error: float = 0.0
+    reaction_jitter: float = 0.0
     stance: str = "ready"
     ready_hands: tuple[float, float, float] = (0.28, 0.2, 0.3)
 
@@ -119,6 +126,7 @@ def make_reach_options(**kwargs: Any) -> ReachOptions:
         "max_step": (0.0, 2.0), "max_crouch": (0.0, 0.6), "both_hands_width": (0.0, 1.0),
         "head_width": (0.0, 0.5),
         "hands_gap": (0.0, 0.6), "palm": (0.0, 1.0), "reach_tolerance": (0.001, 1.0),
+        "aim_error": (0.0, 1.0), "reaction_jitter": (0.0, 0.5),
     }
     if o.stance not in STANCES:
         raise ConfigError(f"stance {o.stance!r} must be one of {', '.join(STANCES)}")
@@ -138,14 +146,17 @@ def make_reach_options(**kwargs: Any) -> ReachOptions:
 class ReachPlan:
     """What the keeper will do about one ball (returned by :meth:`ReachController.set_target`).
 
-    ``seen``: when the ball was seen; ``start``/``end``: the reach blend; ``arrival``:
-    when the ball crosses; ``release``: when the return to idle starts; ``reach``:
-    the solved :class:`~bodyplay.virtual.reach_ik.ReachPose` (effector, error...);
-    ``reachable``: the effector gets within ``reach_tolerance`` of the target;
+    ``target``: where the ball crosses; ``aim``: where the keeper reaches (the
+    target, misjudged by ``aim_error``); ``seen``: when the ball was seen;
+    ``start``/``end``: the reach blend; ``arrival``: when the ball crosses;
+    ``release``: when the return to idle starts; ``reach``: the solved
+    :class:`~bodyplay.virtual.reach_ik.ReachPose` (effector, error...);
+    ``reachable``: the effector gets within ``reach_tolerance`` of the aim;
     ``on_time``: the reach completes by the arrival.
     """
 
     target: NDArray[np.float64]
+    aim: NDArray[np.float64]
     seen: float
     start: float
     end: float
@@ -184,7 +195,8 @@ class ReachController:
     ``skeleton`` should be the actor's (``load_actor(body).skeleton``, the default
     for body ``"m"``) so the rendered hands are where the IK put them; ``idle`` the
     base motion (default :class:`~bodyplay.virtual.idle.IdleMotion` at ``at`` facing
-    ``facing``); ``options`` a :class:`ReachOptions`; ``weights`` the IK's costs.
+    ``facing``); ``options`` a :class:`ReachOptions`; ``weights`` the IK's costs;
+    ``seed`` the generator of an imperfect keeper's errors (see :class:`ReachOptions`).
     """
 
     def __init__(
@@ -196,6 +208,7 @@ class ReachController:
         at: ArrayLike = (0.0, 0.0),
         facing: float = 0.0,
         weights: ReachWeights | None = None,
+        seed: int = 0,
     ) -> None:
         if skeleton is None:
             from bodyplay.body.actor import load_actor
@@ -218,6 +231,7 @@ class ReachController:
         self._layers: list[_Layer] = []
         self._now = 0.0
         self.plans: list[ReachPlan] = []
+        self._rng = np.random.default_rng(seed)
 
     # ---- evaluation ------------------------------------------------------------------
     def base_at(self, t: float) -> NDArray[np.float64]:
@@ -307,10 +321,17 @@ class ReachController:
                 self.skeleton, base, p, both_hands_width=o.both_hands_width,
                 head_width=o.head_width, use_head=o.use_head,
             )
-        reach = solve_reach(self.skeleton, base, p, effector, max_step=o.max_step,
+        aim = p.copy()
+        reaction = o.reaction_time
+        if o.aim_error > 0 or o.reaction_jitter > 0:
+            _, left, _ = body_axes(self.skeleton, base)
+            err = self._rng.normal(0.0, 1.0, size=3)
+            aim += o.aim_error * (err[0] * left + err[1] * np.array([0.0, 1.0, 0.0]))
+            reaction = max(0.5 * reaction, reaction + o.reaction_jitter * err[2])
+        reach = solve_reach(self.skeleton, base, aim, effector, max_step=o.max_step,
                             max_crouch=o.max_crouch,
                             hands_gap=o.hands_gap, palm=o.palm, weights=self.weights)
-        react = n + o.reaction_time
+        react = n + reaction
         length = self._path_length(self.pose_at(react), reach.pose, effector)
         fastest = max(o.min_move_time, _MIN_JERK_PEAK * length / o.max_hand_speed)
         goal_end = t_arrival - o.arrive_early
@@ -324,7 +345,7 @@ class ReachController:
         release = max(t_arrival, end) + o.hold
         self._layers.append(_Layer(start, duration, reach))
         self._layers.append(_Layer(release, back, None))
-        plan = ReachPlan(target=p, seen=n, start=start, end=end, arrival=t_arrival,
+        plan = ReachPlan(target=p, aim=aim, seen=n, start=start, end=end, arrival=t_arrival,
                          release=release, reach=reach,
                          reachable=reach.error <= o.reach_tolerance)
         self.plans.append(plan)
