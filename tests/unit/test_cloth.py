@@ -222,8 +222,9 @@ def test_energy_stays_bounded_over_a_long_run(jacks: np.ndarray) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(3600)
 def test_energy_stays_bounded_over_ten_minutes(jacks: np.ndarray) -> None:
-    _check_bounded(*_loop_energy(jacks, int(600 / LOOP_S), 1.0))
+    _check_bounded(*_loop_energy(jacks, int(600 / LOOP_S), 0.6))  # 36,000 steps
 
 
 def test_parallel_solver_gives_the_serial_result(jacks: np.ndarray) -> None:
@@ -260,3 +261,20 @@ def test_an_upper_body_pose_dresses_and_unseen_legs_follow_the_torso(jacks: np.n
         r = cloth.step(DT, moved)
     assert np.allclose(cloth.body_joints[11:], legs + [0.05, 0.0, 0.0], atol=1e-9)
     assert r.max_penetration <= 0.01
+
+
+def test_self_collision_keeps_a_crumpled_sheet_from_passing_through_itself() -> None:
+    g0 = cape()
+    # the cape unpinned, 3 m beside the body and 1 m up: it falls and piles on the floor
+    sheet = Garment("sheet", g0.vertices + [-3.0, 1.0, 0.0], g0.faces, np.zeros(0, np.int64),
+                    np.zeros(0, np.int64), g0.rest_joints)
+    close = {}
+    for on in (True, False):
+        cloth = Cloth(sheet, ClothOptions(self_collision=on, dress_seconds=0.0))
+        for _ in range(150):
+            cloth.step(DT, sheet.rest_joints)
+        # pairs not neighbours in the mesh that ended closer than half the kept distance
+        pi, _, _ = kernels.self_pairs(cloth.positions, sheet.vertices, 0.005, 0.01)
+        close[on] = len(pi)
+    assert close[False] > 50
+    assert close[True] == 0
