@@ -41,6 +41,7 @@ from bodyplay.capture import (
     write_calib,
     write_pose_jsonl,
 )
+from bodyplay.cloth import Cloth, ClothOptions, ClothStep, Garment
 from bodyplay.errors import (
     BodyplayError,
     BVHError,
@@ -104,6 +105,9 @@ __all__ = [
     "CaptureError",
     "CaptureFolderSource",
     "ClipPoseSource",
+    "Cloth",
+    "ClothOptions",
+    "ClothStep",
     "ConfigError",
     "ContactEvent",
     "EvalResult",
@@ -112,6 +116,7 @@ __all__ = [
     "FixedClock",
     "Frame",
     "FrameSet",
+    "Garment",
     "GestureEvent",
     "IdleMotion",
     "ImageFolderSource",
