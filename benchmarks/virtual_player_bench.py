@@ -1,10 +1,10 @@
 """Virtual players: what a frame of the virtual keeper costs, and how well it is tracked.
 
-Run: .venv/bin/python benchmarks/virtual_player_bench.py [--seconds 6] [--seed 1]
+Run: .venv/bin/python benchmarks/virtual_player_bench.py [--seconds 10] [--seed 1]
      [--cameras 1 2] [--no-track]
 
 A ReachController keeper faces a shot every 1.2 s (targets drawn from a seeded
-generator over the goal mouth the keeper can cover: 1.4 m either side, 0.5..2.0 m
+generator over the goal mouth the keeper can cover: 1.4 m either side, 0.25..2.0 m
 high, announced 0.7 s before arrival). For 1 and 2 cameras at 640x480 it prints the
 median and 90th percentile (wall ms, and CPU ms: the load-independent share) of:
 the controller's pose (``pose_at``), the IK plan
@@ -42,7 +42,7 @@ def shots(seconds: float, seed: int) -> list[tuple[float, float, tuple[float, fl
     t = 0.5
     while t + WARNING < seconds:
         x = float(rng.uniform(-1.4, 1.4))
-        y = float(rng.uniform(0.5, 2.0))
+        y = float(rng.uniform(0.25, 2.0))
         out.append((t, t + WARNING, (x, y, 0.3)))
         t += SHOT_EVERY
     return out
@@ -120,7 +120,7 @@ def run(cameras: int, seconds: float, seed: int, track: bool, idle: IdleMotion) 
 def main() -> int:
     """Print the figures for each camera count."""
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--seconds", type=float, default=6.0)
+    ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cameras", type=int, nargs="+", default=[1, 2])
     ap.add_argument("--no-track", action="store_true", help="render only")

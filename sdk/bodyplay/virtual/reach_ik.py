@@ -8,7 +8,8 @@ over the joints a keeper would use, every one inside the skeleton's joint limits
 
 * the arm(s): clavicle, shoulder (3 DOF each) and the elbow hinge;
 * the trunk: lumbar and thorax (lean sideways, forwards, twist);
-* for a header, also the neck and head;
+* the neck and head: to put the head on the ball (a header) or, for the hands, to
+  watch it come (a soft gaze cost);
 * a step: the whole body moves horizontally by up to ``max_step`` metres;
 * a crouch: the pelvis drops by up to ``max_crouch`` metres.
 
@@ -61,7 +62,9 @@ class ReachWeights:
 
     The effector's error costs 1 per metre; these are relative to it. ``legs`` is
     the cost per metre of stretching a leg past its reach from the spot its foot
-    stood on (so a wide step crouches rather than drag the trailing foot).
+    stood on (so a wide step crouches rather than drag the trailing foot); ``gaze``
+    the cost of the face's forward axis pointing away from the ball (unit vectors'
+    difference): the keeper turns its head to watch the ball come (0: no gaze).
     """
 
     arm: float = 0.01
@@ -71,6 +74,7 @@ class ReachWeights:
     step: float = 0.15
     crouch: float = 0.2
     legs: float = 3.0
+    gaze: float = 0.3
 
 
 @dataclass(frozen=True, eq=False)
@@ -163,9 +167,9 @@ def _effector_from_nodes(
     raise ConfigError(f"unknown effector {effector!r}; choose one of {', '.join(EFFECTORS)}")
 
 
-def _groups(effector: str, body: bool) -> list[tuple[list[int], str]]:
+def _groups(effector: str, body: bool, gaze: bool) -> list[tuple[list[int], str]]:
     """(pose indices, weight name) of the joints a reach with ``effector`` moves
-    (``body``: also the trunk and a step)."""
+    (``body``: also the trunk, a step and a crouch; ``gaze``: the neck and head)."""
     groups: list[tuple[list[int], str]] = []
     if body:
         groups += [(_comp("lumbar"), "trunk"), (_comp("thorax"), "trunk"), ([0, 2], "step"),
@@ -175,7 +179,7 @@ def _groups(effector: str, body: bool) -> list[tuple[list[int], str]]:
         groups.append((_comp(f"{s}_clavicle"), "clavicle"))
         groups.append((_comp(f"{s}_shoulder"), "arm"))
         groups.append((_comp(f"{s}_elbow", (1,)), "arm"))
-    if effector == "head":
+    if effector == "head" or gaze:
         groups.append((_comp("neck"), "neck"))
         groups.append((_comp("head"), "neck"))
     return groups
@@ -239,7 +243,8 @@ def solve_reach(
     else:
         targets = p[None]
 
-    groups = _groups(effector, body)
+    look = body and w.gaze > 0 and effector != "head"
+    groups = _groups(effector, body, look)
     idx = np.concatenate([np.asarray(g, dtype=np.int64) for g, _ in groups])
     cost = np.concatenate([np.full(len(g), getattr(w, name)) for g, name in groups])
     lo_all, hi_all = skeleton.limits
@@ -273,16 +278,25 @@ def solve_reach(
     reach = np.array([leg_reach(skeleton, "l"), leg_reach(skeleton, "r")])
     leg_w = w.legs if body else 0.0
 
+    head = _N["head"]
+    gaze_w = w.gaze if look else 0.0
+
     def points(poses: NDArray[np.float64]) -> NDArray[np.float64]:
-        """(..., k*3 + 1): effector points, then how far the farther planted foot is
-        beyond its leg's reach (a step or crouch must leave one foot where it was)."""
-        nodes = skeleton.node_positions(poses)
+        """(..., k*3 + 4): effector points; how far the farther planted foot is beyond
+        its leg's reach (a step or crouch must leave one foot where it was); the
+        face's forward axis minus the direction to the ball (the gaze)."""
+        frames = skeleton.forward(poses)
+        nodes = frames[..., :3, 3]
         pts = _effector_from_nodes(nodes, effector, palm)
         over = np.linalg.norm(nodes[..., hips, :] - ankles, axis=-1) - reach
         excess = leg_w * np.maximum(np.max(over, axis=-1), 0.0)
-        return np.concatenate([pts.reshape(pts.shape[:-2] + (-1,)), excess[..., None]], -1)
+        to_ball = p - nodes[..., head, :]
+        to_ball = to_ball / np.maximum(np.linalg.norm(to_ball, axis=-1, keepdims=True), 1e-9)
+        gaze = gaze_w * (frames[..., head, :3, 2] - to_ball)
+        return np.concatenate([pts.reshape(pts.shape[:-2] + (-1,)), excess[..., None], gaze],
+                              -1)
 
-    goal = np.concatenate([targets.ravel(), [0.0]])
+    goal = np.concatenate([targets.ravel(), [0.0, 0.0, 0.0, 0.0]])
 
     def residual(x: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
         q[idx] = x
