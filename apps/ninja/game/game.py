@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 from apps.ninja.game.player import NinjaPlayer
 from apps.ninja.game.rules import NINJA_GESTURES, NinjaOptions, NinjaRules
 from bodyplay.app import Game, GameContext, GameOptions, Scene
+from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.skeleton import Skeleton
 
 __all__ = ["NinjaGame", "check_script", "OPPONENT_Z"]
@@ -95,6 +96,8 @@ class NinjaGame(Game):
         self._opp_cache: dict[str, NDArray[np.float64]] = {}
         self._last_gesture: tuple[str, float] | None = None
         self._now = 0.0
+        self._joints: NDArray[np.float64] | None = None
+        self._ring_from: dict[int, NDArray[np.float64]] = {}
 
     # ---- the kit's hooks -----------------------------------------------------------------
     def virtual_player(self, options: GameOptions) -> Any:
@@ -113,16 +116,28 @@ class NinjaGame(Game):
     def setup(self, ctx: GameContext) -> None:
         """Fresh rules seeded from the run's generator; gestures feed them."""
         self.rules = NinjaRules(self.rules_options, rng=ctx.rng)
+        self._ring_from = {}
         ctx.session.on("gesture")(self._on_gesture)
 
     def _on_gesture(self, ev: Any) -> None:
         if ev.phase == "performed":
+            n = len(self.rules.rings)
             self.rules.on_gesture(ev.gesture, ev.t, ev.started_t)
             self._last_gesture = (ev.gesture, ev.t)
+            if len(self.rules.rings) > n and self._joints is not None:
+                # The ring leaves from the throwing hand(s) (the paper's ring follows
+                # the player's motion): the right wrist, or between both for a double.
+                j = self._joints
+                hand = j[JOINT_INDEX["r_wrist"]] if ev.gesture == "hit" else 0.5 * (
+                    j[JOINT_INDEX["l_wrist"]] + j[JOINT_INDEX["r_wrist"]])
+                if np.all(np.isfinite(hand)):
+                    self._ring_from[n] = hand.copy()
 
     def update(self, ctx: GameContext, dt: float) -> None:
         """Advance the fight to the latest capture time; let the virtual ninja react."""
         now = ctx.pose.t if ctx.pose is not None else self._now
+        if ctx.pose is not None:
+            self._joints = ctx.pose.joints
         self._now = max(self._now, now)
         self.rules.update(self._now)
         if self.player is not None:
@@ -134,6 +149,7 @@ class NinjaGame(Game):
     def restart(self, ctx: GameContext) -> None:
         """A new fight (waits for the next transfigure)."""
         self.rules = NinjaRules(self.rules_options, rng=ctx.rng)
+        self._ring_from = {}
 
     def summary(self, ctx: GameContext) -> dict[str, Any]:
         """The fight's summary, plus the virtual player's script checked against it."""
@@ -183,9 +199,10 @@ class NinjaGame(Game):
         if ctx.pose is not None:
             col = _HURT if hurt_me else (_NINJA if r.phase != "waiting" else (0.85, 0.75, 0.6))
             scene.avatar(ctx.pose.joints, ctx.pose.state, color=col, last_seen=ctx.last_seen)
-        for ring in r.rings:
+        for k, ring in enumerate(r.rings):
             if not ring.landed:
-                self._draw_ring(scene, ring.progress(now), ring.double, now)
+                self._draw_ring(scene, ring.progress(now), ring.double, now,
+                                self._ring_from.get(k))
         self._hud(ctx, scene)
 
     def _draw_attack(self, scene: Scene, a: Any, now: float) -> None:
@@ -197,8 +214,10 @@ class NinjaGame(Game):
             z = OPPONENT_Z - 0.6 - (OPPONENT_Z - 0.6) * min(1.0, (now - a.strike_t) / 0.2)
             scene.box((0.0, y, z), (3.0, 0.06, 0.3), (0.9, 0.9, 1.0))
 
-    def _draw_ring(self, scene: Scene, w: float, double: bool, now: float) -> None:
-        start = np.array([0.0, 1.3, 0.4])
+    def _draw_ring(self, scene: Scene, w: float, double: bool, now: float,
+                   start: NDArray[np.float64] | None = None) -> None:
+        if start is None:
+            start = np.array([0.0, 1.3, 0.4])
         end = np.array([0.0, 1.3, OPPONENT_Z - 0.3])
         c = start + w * (end - start)
         rad = 0.32 if double else 0.22
