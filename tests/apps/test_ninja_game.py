@@ -59,7 +59,8 @@ def test_scene_shows_both_fighters_the_attack_and_the_gesture_hud():
     class Ctx:
         pose = None
         last_seen = None
-        session = type("S", (), {"gestures": ()})()
+        frame = None
+        session = type("S", (), {"gestures": (), "cameras": ()})()
 
     scene = Scene()
     game.draw(Ctx(), scene)  # type: ignore[arg-type]

@@ -99,3 +99,27 @@ def test_clip_input_is_pose_level_with_the_clip_rate() -> None:
     inp = open_game_input(make_game_options(input="pose:13_29"), Game())
     assert inp.session.tracker is None and inp.kind == "clip" and inp.fps > 0
     inp.session.close()
+
+
+def test_camera_inset_shows_the_picture_with_the_skeleton_and_skips_pose_input():
+    from types import SimpleNamespace
+
+    from bodyplay.app import Scene, camera_inset
+    from bodyplay.capture.camera import Camera, look_at
+    from bodyplay.capture.frames import Frame, FrameSet
+
+    R, t = look_at(np.array([0.0, 1.2, 3.0]), np.array([0.0, 1.0, 0.0]))
+    cam = Camera.from_fov("cam0", 64, 48, 60.0, R, t)
+    img = np.zeros((48, 64, 3), np.uint8)
+    fs = FrameSet((Frame(img, 0.0, 0),), 0.0, 0)
+    joints = np.zeros((17, 3)) + [0.0, 1.0, 0.0]
+    joints[:, 0] = np.linspace(-0.3, 0.3, 17)
+    ctx = SimpleNamespace(frame=fs, session=SimpleNamespace(cameras=(cam,)),
+                          pose=SimpleNamespace(joints=joints))
+    scene = Scene()
+    camera_inset(ctx, scene, 32)  # type: ignore[arg-type]
+    assert len(scene.insets) == 1 and scene.insets[0].image.max() > 0
+    empty = Scene()
+    camera_inset(SimpleNamespace(frame=None, session=SimpleNamespace(cameras=()), pose=None),
+                 empty)  # type: ignore[arg-type]
+    assert not empty.insets

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from apps.ninja.game.player import NinjaPlayer
 from apps.ninja.game.rules import NINJA_GESTURES, NinjaOptions, NinjaRules
-from bodyplay.app import Game, GameContext, GameOptions, Scene
+from bodyplay.app import Game, GameContext, GameOptions, Scene, camera_inset
 from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.skeleton import Skeleton
 
@@ -204,6 +204,7 @@ class NinjaGame(Game):
                 self._draw_ring(scene, ring.progress(now), ring.double, now,
                                 self._ring_from.get(k))
         self._hud(ctx, scene)
+        camera_inset(ctx, scene, 150, pos=(scene.width - 160, 40))
 
     def _draw_attack(self, scene: Scene, a: Any, now: float) -> None:
         w = a.progress(now)

@@ -9,6 +9,7 @@ summary.json; :func:`game_main` is the one command line of every game.
 from bodyplay.app.analysis import HandKinematics, HandTrace, Marker, plot_hand_motion
 from bodyplay.app.cli import game_argument_parser, game_main
 from bodyplay.app.game import STAGES, Game, GameContext
+from bodyplay.app.hud import camera_inset
 from bodyplay.app.inputs import GameInput, open_game_input
 from bodyplay.app.options import VIRTUAL_INPUT, GameOptions, display_available, make_game_options
 from bodyplay.app.renderer import SceneRenderer
@@ -30,6 +31,7 @@ __all__ = [
     "Marker",
     "Scene",
     "SceneRenderer",
+    "camera_inset",
     "display_available",
     "game_argument_parser",
     "game_main",
