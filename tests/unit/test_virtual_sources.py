@@ -104,3 +104,41 @@ def test_player_source_can_start_with_the_empty_room(synth_gl, keeper_factory) -
     assert np.isnan(truths[0]).all() and np.isnan(truths[2]).all()
     assert np.isfinite(truths[3]).all()
     assert np.abs(images[3] - images[0]).mean() > 3 * np.abs(images[1] - images[0]).mean()
+
+
+@pytest.mark.gl
+def test_lookahead_renders_the_same_frames_in_a_closed_loop(synth_gl, keeper_factory) -> None:
+    import threading
+
+    def play(lookahead: bool) -> tuple[np.ndarray, np.ndarray]:
+        ctrl = keeper_factory()
+        images, truths = [], []
+        with VirtualPlayerSource(ctrl, seconds=0.8, size=(160, 120),
+                                 lookahead=lookahead) as src:
+            for fs in src:
+                if fs.index == 3:  # the game reacts to a frame: a ball is coming
+                    ctrl.set_target(0.7, (0.5, 1.3, 0.3), now=fs.t)
+                assert src.truth is not None
+                images.append(fs.frames[0].image)
+                truths.append(src.truth.copy())
+        return np.stack(images), np.stack(truths)
+
+    sync, ahead = play(False), play(True)
+    np.testing.assert_array_equal(sync[1], ahead[1])
+    np.testing.assert_array_equal(sync[0], ahead[0])
+    assert np.abs(sync[1][-1] - sync[1][0]).max() > 0.2  # the keeper did reach
+    assert not [t for t in threading.enumerate() if t.name.startswith("virtual-player")]
+
+
+@pytest.mark.gl
+def test_lookahead_source_closes_cleanly_mid_stream(synth_gl, keeper_factory) -> None:
+    import threading
+
+    src = VirtualPlayerSource(keeper_factory(), size=(160, 120), lookahead=True)
+    it = iter(src)
+    for _ in range(3):
+        next(it)
+    src.close()
+    assert not [t for t in threading.enumerate() if t.name.startswith("virtual-player")]
+    with pytest.raises(CaptureError, match="closed"):
+        next(iter(src))

@@ -16,7 +16,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from collections.abc import Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
 from types import TracebackType
 from typing import TYPE_CHECKING, Any, Self
 
@@ -70,6 +72,8 @@ class VirtualPlayerSource:
     the stream; ``empty_room_seconds`` of the room without the player come first
     (the player is in view from the first frame by default). Frame ``i`` is at
     ``i / fps`` seconds on the controller's clock. The stream plays once.
+    ``lookahead`` renders the next frame in a worker thread while the caller
+    tracks this one (one frame of camera latency; see :meth:`_iter_ahead`).
     """
 
     pose_level = False
@@ -90,6 +94,7 @@ class VirtualPlayerSource:
         seconds: float | None = None,
         empty_room_seconds: float = 0.0,
         camera_options: dict[str, Any] | None = None,
+        lookahead: bool = False,
     ) -> None:
         from bodyplay.synth.camera import SyntheticCamera
         from bodyplay.synth.options import make_synthetic_camera_options
@@ -126,6 +131,8 @@ class VirtualPlayerSource:
         """Milliseconds the last frame took to pose and render."""
         self._started = False
         self._closed = False
+        self.lookahead = bool(lookahead)
+        self._pool: ThreadPoolExecutor | None = None
 
     @property
     def truth(self) -> NDArray[np.float64] | None:
@@ -139,6 +146,25 @@ class VirtualPlayerSource:
             raise TypeError("an endless VirtualPlayerSource (seconds=None) has no length")
         return n
 
+    def _shoot(self, i: int, pose: NDArray[np.float64] | None) -> SynthFrame:
+        """Render frame ``i`` (``pose`` None: the empty room); time it."""
+        t = i / self.fps
+        start = time.perf_counter()
+        if pose is None:
+            sf = self.camera.capture_empty(t, i)
+        else:
+            sf = self.camera.capture(t, pose, index=i)
+        self.last_render_ms = 1000.0 * (time.perf_counter() - start)
+        self.render_seconds += self.last_render_ms / 1000.0
+        return sf
+
+    def _pose(self, i: int) -> NDArray[np.float64] | None:
+        """The controller's pose for frame ``i`` (asked in the caller's thread)."""
+        t = i / self.fps
+        if t < self.empty_room_seconds - 1e-9:
+            return None
+        return np.asarray(self.controller.pose_at(t), dtype=np.float64)
+
     def __iter__(self) -> Iterator[FrameSet]:
         """Render frame sets one at a time, posing the actor as the controller says."""
         if self._closed:
@@ -148,27 +174,54 @@ class VirtualPlayerSource:
                                "create a new one to play again")
         self._started = True
         n = _frame_count(self.seconds, self.fps)
+        if self.lookahead:
+            yield from self._iter_ahead(n)
+            return
         i = 0
-        while n is None or i < n:
-            if self._closed:
-                return
-            t = i / self.fps
-            start = time.perf_counter()
-            if t < self.empty_room_seconds - 1e-9:
-                sf = self.camera.capture_empty(t, i)
-            else:
-                sf = self.camera.capture(t, self.controller.pose_at(t), index=i)
-            spent = time.perf_counter() - start
-            self.render_seconds += spent
-            self.last_render_ms = 1000.0 * spent
-            self.last = sf
-            yield sf.frames
+        while (n is None or i < n) and not self._closed:
+            self.last = self._shoot(i, self._pose(i))
+            yield self.last.frames
             i += 1
+
+    def _iter_ahead(self, n: int | None) -> Iterator[FrameSet]:
+        """Frame i + 1 renders in a worker thread while the caller tracks frame i.
+
+        Its pose is asked for before frame i is handed over, so a game's reaction
+        to frame i shows from frame i + 2 on (one frame of camera latency), and the
+        frames do not depend on the threads' timing. Every GL call of the camera
+        happens in the worker (an EGL context lives in one thread).
+        """
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="virtual-player")
+        self._pool = pool
+        pending: deque[Future[SynthFrame]] = deque()
+        try:
+            pending.append(pool.submit(self._shoot, 0, self._pose(0)))
+            i = 0
+            while pending and not self._closed:
+                if n is None or i + 1 < n:
+                    pending.append(pool.submit(self._shoot, i + 1, self._pose(i + 1)))
+                self.last = pending.popleft().result()
+                yield self.last.frames
+                i += 1
+        finally:
+            for fut in pending:
+                fut.cancel()
+            self._stop_pool()
+
+    def _stop_pool(self) -> None:
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            # the stream plays once: release GL in the thread whose context it is
+            pool.submit(self.camera.close).result()
+            pool.shutdown(wait=True)
 
     def close(self) -> None:
         """Release the renderer; iterating afterwards raises CaptureError."""
         self._closed = True
-        self.camera.close()
+        if self._pool is not None:
+            self._stop_pool()
+        else:
+            self.camera.close()
 
     def __enter__(self) -> Self:
         return self
