@@ -278,3 +278,19 @@ def test_self_collision_keeps_a_crumpled_sheet_from_passing_through_itself() -> 
         close[on] = len(pi)
     assert close[False] > 50
     assert close[True] == 0
+
+
+def test_body_height_is_the_median_of_the_first_poses(jacks: np.ndarray) -> None:
+    from bodyplay.cloth.body import body_height
+
+    cloth = Cloth(skirt(resolution=0.3))
+    bad = jacks[0].copy()
+    bad[3:11] += [0.0, 0.3, 0.0]  # a tracker's first guess: the torso 0.3 m too long
+    cloth.step(DT, bad)
+    assert cloth.height is not None and cloth.height > 2.0
+    for j in jacks[1:40]:
+        cloth.step(DT, j)
+    assert abs(cloth.height - body_height(jacks[20])) < 0.02
+    fixed = Cloth(skirt(resolution=0.3), ClothOptions(body_height=1.6))
+    fixed.step(DT, bad)
+    assert fixed.height == 1.6

@@ -4,8 +4,9 @@
 cloth (:class:`bodyplay.cloth.Cloth`) in fixed 1/60 s steps from the previous pose's
 time to this one's, the joints interpolated in between (so a 30 fps camera still
 moves the body smoothly); joints the tracker reports lost are held where they were.
-The scene is the view of a mirror: the camera stands where the player's camera
-stands, looking back at the avatar, and the picture is flipped left-right. The avatar
+The scene is the view of a mirror: the view is the calibrated camera that films the
+player (for pose input without one: 3.6 m in front of where the player first stood),
+and the picture is flipped left-right. The avatar
 is drawn as the very capsules the cloth collides with, so what you see is what the
 cloth feels. The embedded default input is a synthetic camera filming the actor
 doing the CMU 13_29 jumping jacks, tracked.
@@ -131,8 +132,12 @@ class ClothMirrorGame(Game):
 
     def draw(self, ctx: GameContext, scene: Scene) -> None:
         """The mirror: the body's capsules and the garment, seen from the camera, flipped."""
-        eye, target = self._mirror_view()
-        scene.look(eye=eye, target=target, hfov_deg=50.0)
+        cams = getattr(ctx.session, "cameras", ()) if hasattr(ctx, "session") else ()
+        if cams:  # a mirror shows the player from where the camera stands
+            scene.camera = cams[0].with_size(ctx.options.width, ctx.options.height)
+        else:
+            eye, target = self._mirror_view()
+            scene.look(eye=eye, target=target, hfov_deg=50.0)
         scene.mirror = True
         scene.sky = (0.16, 0.17, 0.2)
         scene.floor()

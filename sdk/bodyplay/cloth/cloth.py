@@ -27,6 +27,7 @@ from bodyplay.errors import ConfigError
 __all__ = ["Cloth", "ClothStep"]
 
 _MAX_CANDIDATES = 6
+_HEIGHT_POSES = 30  # poses whose torso sizes the body (median)
 _REQUIRED = tuple(JOINT_INDEX[n] for n in ("pelvis", "neck", "l_shoulder", "r_shoulder"))
 
 
@@ -114,6 +115,7 @@ class Cloth:
         self._faces = faces.astype(np.int64)
         self._driven: NDArray[np.float64] | None = None
         self._height = options.body_height
+        self._heights: list[float] = []
         self._t = 0.0
         self._solver = kernels.substeps_parallel if options.parallel else kernels.substeps_serial
 
@@ -200,8 +202,11 @@ class Cloth:
             if target is None or not np.all(np.isfinite(target[list(_REQUIRED)])):
                 return self._result(dt, 0, lost, False, None, t0)
             target = self._fill(target)
+            self._measure_height(target)
             nsub = self._dress(dt, target)
         else:
+            if target is not None and np.all(np.isfinite(target[list(_REQUIRED)])):
+                self._measure_height(target)
             target = self._fill(self._driven.copy() if target is None else target)
             jump = float(np.linalg.norm(target[0] - self._driven[0]))
             if jump > self.options.teleport_distance:
@@ -253,10 +258,16 @@ class Cloth:
             j[bad] = ref[bad]
         return j
 
+    def _measure_height(self, joints: NDArray[np.float64]) -> None:
+        """Body height: the median of the first poses' estimates (a tracker's first pose
+        may be far off), unless ClothOptions.body_height fixes it."""
+        if self.options.body_height is not None or len(self._heights) >= _HEIGHT_POSES:
+            return
+        self._heights.append(body_height(joints))
+        self._height = float(np.median(self._heights))
+
     def _dress(self, dt: float, target: NDArray[np.float64]) -> int:
         """Put the garment on the body: rigidly to the target's frame, then blend the pose."""
-        if self._height is None:
-            self._height = body_height(target)
         rest = self.garment.rest_joints
         o0, r0 = body_frames(rest)
         o1, r1 = body_frames(target)
