@@ -175,9 +175,11 @@ def test_filter_prunes_subtrees_and_finds_a_template_shown_to_it(
         for w, h in ((60, 80), (120, 160), (240, 320)))
     for _ in range(3):
         step = f.step(maps)  # type: ignore[arg-type]
-    assert step.evaluations[0] == tree.level_sizes[0]
-    assert step.evaluations[1] < tree.level_sizes[1]
-    assert step.evaluations[2] < tree.level_sizes[2]
+    shifts0 = (2 * f.options.shift_search[0] + 1) * (2 * f.options.shift_search[1] + 1)
+    assert step.evaluations[0] == tree.level_sizes[0] * shifts0  # every node, every position
+    assert step.evaluations[1] < tree.level_sizes[1] * 3  # only the children of the kept
+    assert step.evaluations[2] < tree.level_sizes[2] * 3
+    assert step.shift[1] == 0
     assert step.distance < 0.005
     assert f.posterior is not None and f.posterior.sum() == pytest.approx(1.0)
 
@@ -231,3 +233,14 @@ def test_silhouette_is_a_tracker_plugin() -> None:
     from bodyplay.plugins import PluginRegistry
 
     assert "silhouette" in PluginRegistry().names("trackers")
+
+
+def test_shifted_run_scoring_equals_scoring_the_moved_template() -> None:
+    from bodyplay.trackers.silhouette.distance import score_runs_shifted
+
+    maps = distance_maps(_blob())
+    runs = encode_runs(_blob()[None])
+    for dx in (-3, 0, 2):
+        moved = np.roll(_blob(), dx, axis=1)  # the blob is far from the window's sides
+        got = score_runs_shifted(maps, runs, np.array([0]), np.array([dx]), np.array([0]))
+        assert got[0] == pytest.approx(score_direct(maps, moved), rel=1e-9, abs=1e-12)

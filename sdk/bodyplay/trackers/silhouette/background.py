@@ -16,6 +16,8 @@ learn from. The model is a running one:
   its mean becomes the current value and it becomes *known* -- this is how the
   pixels the player uncovers get learned, and how the first frame's copy of the
   player (a "ghost") is forgotten;
+* an unknown pixel that differed from its model and shows the model's value again,
+  away from the player, is known (something passed in front of it);
 * known background pixels adapt with rate ``rate`` (slow light changes); a known
   pixel that differs from its model is something in front of the background (the
   player standing still, most often) and is learned only after ``relearn_after``
@@ -25,6 +27,12 @@ Each frame gives three sets: foreground (differs from its model), known backgrou
 and unknown (still, never confirmed). The distance of :mod:`.distance` treats
 unknown pixels as "don't care". An empty-room start simply makes every pixel
 known after ``learn_after`` frames.
+
+A player who stands still from the first frame would show nothing: with
+``bootstrap`` the first frame's likely figure (:func:`first_guess`, GrabCut
+against the image's edges) is kept from being learned until the tracker has an
+estimate, and counts (with the foreground) when the floor point is sought; it
+stays "don't care" to the distance: the evidence of the pose is what moves.
 """
 
 from __future__ import annotations
@@ -60,12 +68,15 @@ class Silhouette:
 
     ``foreground``: uint8 0/1 after clean-up; ``unknown``: uint8 0/1 pixels never
     confirmed as background that show nothing new; ``scale``: working size over
-    the camera image size.
+    the camera image size; ``region``: the foreground plus the first frame's guess
+    of the player not learned yet (where the body may be: used to find the floor
+    point).
     """
 
     foreground: NDArray[np.uint8]
     unknown: NDArray[np.uint8]
     scale: float
+    region: NDArray[np.uint8] | None = None
 
     @property
     def area(self) -> float:
@@ -95,13 +106,17 @@ def _classify(x, mean, var, prev, still, wi, thr2, move2, differs, moved):  # ty
 
 
 @numba.njit(cache=True, nogil=True)
-def _learn(x, mean, var, still, known, differs, protect, learn_after, relearn_after, rate,  # type: ignore[no-untyped-def]  # pragma: no cover
-           var0):
+def _learn(x, mean, var, still, known, differs, was_diff, protect, learn_after,  # type: ignore[no-untyped-def]  # pragma: no cover
+           relearn_after, rate, var0):
     h, w = still.shape
     for i in range(h):
         for j in range(w):
+            if differs[i, j]:
+                was_diff[i, j] = True
             if protect[i, j]:
                 continue
+            if not known[i, j] and not differs[i, j] and was_diff[i, j]:
+                known[i, j] = True  # back to its value after something passed: background
             if (still[i, j] >= learn_after and not known[i, j]) or (
                     differs[i, j] and still[i, j] >= relearn_after):
                 for c in range(3):
@@ -113,6 +128,31 @@ def _learn(x, mean, var, still, known, differs, protect, learn_after, relearn_af
                     e = x[i, j, c] - mean[i, j, c]
                     mean[i, j, c] += rate * e
                     var[i, j, c] = max((1 - rate) * var[i, j, c] + rate * e * e, var0)
+
+
+def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.bool_]:
+    """Where the player probably is in the first frame, before anything has moved:
+    GrabCut (OpenCV) with everything but the image's sides and top as the unknown
+    region (a player stands on the floor, away from the edges), run on a small copy;
+    returned at ``size`` (width, height)."""
+    h, w = image.shape[:2]
+    s = min(1.0, 120.0 / min(h, w))
+    small = np.asarray(cv2.resize(image, (max(8, int(w * s)), max(8, int(h * s))),
+                                  interpolation=cv2.INTER_AREA), np.uint8)
+    sh, sw = small.shape[:2]
+    mx, my = int(0.08 * sw), int(0.04 * sh)
+    mask = np.zeros((sh, sw), np.uint8)
+    bgd = np.zeros((1, 65), np.float64)
+    fgd = np.zeros((1, 65), np.float64)
+    try:
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (mx, my, sw - 2 * mx, sh - my),
+                    bgd, fgd, 3, cv2.GC_INIT_WITH_RECT)
+    except cv2.error:
+        return np.zeros(size[::-1], bool)
+    guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
+    if guess.mean() > 0.5:  # no figure against a ground: no guess
+        return np.zeros(size[::-1], bool)
+    return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
 
 
 class BackgroundModel:
@@ -129,14 +169,15 @@ class BackgroundModel:
         self._prev: NDArray[np.float32] | None = None
         self._still: NDArray[np.int32] | None = None
         self.known: NDArray[np.bool_] | None = None
+        self.occupied: NDArray[np.bool_] = np.zeros((0, 0), bool)
 
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
         if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
             raise CaptureError(f"background model needs (H, W, 3) uint8 RGB frames, got "
                                f"{image.shape} {image.dtype}")
-        s = self.options.scale
+        h, w = image.shape[:2]
+        s = min(1.0, self.options.working_size / min(h, w))
         if s != 1.0:
-            h, w = image.shape[:2]
             image = np.asarray(cv2.resize(image, (max(1, int(round(w * s))),
                                                   max(1, int(round(h * s)))),
                                           interpolation=cv2.INTER_AREA), np.uint8)
@@ -158,6 +199,9 @@ class BackgroundModel:
             self._prev = x.copy()
             self._still = np.zeros(x.shape[:2], np.int32)
             self.known = np.zeros(x.shape[:2], bool)
+            self.occupied = (first_guess(image, x.shape[1::-1]) if o.bootstrap
+                             else np.zeros(x.shape[:2], bool))
+            self._was_diff = np.zeros(x.shape[:2], bool)
         assert self._var is not None and self._prev is not None and self._still is not None
         assert self.known is not None
         differs = np.zeros(x.shape[:2], np.uint8)
@@ -172,14 +216,16 @@ class BackgroundModel:
             protect = cv2.dilate(moved,
                                  cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
                                  ) > 0
+            protect |= self.occupied  # the first guess of the player waits for the tracker
         elif protect.shape != fg.shape:
             raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
                                f"{fg.shape[::-1]}")
-        _learn(x, self._mean, self._var, self._still, self.known, differs,
+        _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,
                np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
                np.float32(o.min_std**2))
         unknown = (~self.known & (fg == 0)).astype(np.uint8)
-        return Silhouette(fg, unknown, x.shape[1] / image.shape[1])
+        region = fg | (self.occupied & ~self.known).astype(np.uint8)
+        return Silhouette(fg, unknown, x.shape[1] / image.shape[1], region)
 
     def _clean(self, fg: NDArray[np.uint8]) -> NDArray[np.uint8]:
         o = self.options

@@ -230,3 +230,37 @@ def score_runs(maps: DistanceMaps, runs: TemplateRuns,
     idx = np.arange(len(runs), dtype=np.int64) if index is None else np.asarray(index, np.int64)
     return _score_runs(maps.integral, runs.offsets, runs.row, runs.x0, runs.x1, idx,
                        maps.base, float(maps.area))
+
+
+@numba.njit(cache=True, nogil=True)
+def _score_runs_shifted(integral, offsets, row, x0, x1, index, dx, dy, base, area):  # type: ignore[no-untyped-def]  # pragma: no cover
+    h = integral.shape[0]
+    w = integral.shape[1] - 1
+    out = np.empty(index.shape[0], np.float64)
+    for k in range(index.shape[0]):
+        i = index[k]
+        sx = dx[k]
+        sy = dy[k]
+        s = 0.0
+        for j in range(offsets[i], offsets[i + 1]):
+            r = np.int64(row[j]) + sy
+            if r < 0 or r >= h:
+                continue
+            a = min(max(np.int64(x0[j]) + sx, 0), w)
+            b = min(max(np.int64(x1[j]) + sx, 0), w)
+            s += integral[r, b] - integral[r, a]
+        out[k] = (s + base) / area
+    return out
+
+
+def score_runs_shifted(maps: DistanceMaps, runs: TemplateRuns, index: NDArray[np.int64],
+                       dx: NDArray[np.int64], dy: NDArray[np.int64]) -> NDArray[np.float64]:
+    """eq. 11-12 for template ``index[k]`` moved by ``(dx[k], dy[k])`` pixels (the
+    search over the body's position in the window); template pixels moved out of
+    the window are dropped."""
+    if (runs.height, runs.width) != maps.cost.shape:
+        raise ConfigError(f"templates are {runs.width}x{runs.height}, the maps "
+                          f"{maps.cost.shape[1]}x{maps.cost.shape[0]}")
+    return _score_runs_shifted(maps.integral, runs.offsets, runs.row, runs.x0, runs.x1,
+                               np.asarray(index, np.int64), np.asarray(dx, np.int64),
+                               np.asarray(dy, np.int64), maps.base, float(maps.area))

@@ -25,7 +25,9 @@ class BackgroundOptions:
     for a pixel already learned that now differs; ``rate`` the adaptation rate
     of learned background pixels (slow light changes); ``min_std`` the noise floor;
     ``open_px``/``close_px`` the morphological clean-up; ``min_area`` the smallest
-    blob share of the image kept.
+    blob share of the image kept; ``working_size`` the short side of the image the
+    model works on (the paper: 640x480 down-sampled to 320x240); ``bootstrap``: take
+    the first frame's likely figure (GrabCut) as the player until it is learned.
     """
 
     threshold: float = 4.0
@@ -37,7 +39,8 @@ class BackgroundOptions:
     open_px: int = 1
     close_px: int = 2
     min_area: float = 0.002
-    scale: float = 0.5
+    working_size: int = 240
+    bootstrap: bool = True
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -45,8 +48,8 @@ class BackgroundOptions:
         if self.learn_after < 1 or self.relearn_after < self.learn_after:
             raise ConfigError("background learn_after must be at least 1 frame and "
                               "relearn_after at least learn_after")
-        if not 0.1 <= self.scale <= 1.0:
-            raise ConfigError("background scale must be within 0.1..1")
+        if self.working_size < 60:
+            raise ConfigError("background working_size must be at least 60 pixels")
 
 
 @dataclass(frozen=True)
@@ -102,12 +105,16 @@ class SilhouetteOptions:
     frames with a person); ``sigma``: likelihood scale per level relative to that
     level's clustering threshold; ``keep``: posterior share (of the best node)
     below which a subtree is pruned, ``max_expand`` the most nodes expanded per
-    level; ``occlusion_m``: eq. 14's m; ``transition_weight``: share of the
+    level; ``shift_search``: the level-1 grid of positions tried around the floor
+    point, (x, y) pixels each way (a level-1 pixel is 3.6 cm); ``occlusion_m``:
+    eq. 14's m; ``transition_weight``: share of the
     prediction from the training transition histograms (the rest from the
     first-order Gaussian model, eq. 13-14); ``uniform``: prior mass spread over all
     leaves (recovery after failure); ``lost_after``: seconds without a person
     before every joint is reported lost (before, the prediction is reported
-    ``inferred``); ``depth_window``: seconds over which the nearest floor distance
+    ``inferred``); ``min_height``/``max_distance``: a silhouette shorter, or a floor
+    point farther from the camera (m), is not a person (the automatic start);
+    ``depth_window``: seconds over which the nearest floor distance
     is kept (jumps lift the feet); ``smooth``: share of the previous joints kept
     (exponential smoothing of the discrete templates); ``cache``: hierarchy cache folder.
     """
@@ -118,11 +125,13 @@ class SilhouetteOptions:
     sigma: float = 0.25
     keep: float = 0.02
     max_expand: tuple[int, int] = (24, 48)
+    shift_search: tuple[int, int] = (1, 0)
     occlusion_m: float = 5.0
     transition_weight: float = 0.5
     uniform: float = 0.02
     select_frames: int = 8
     min_height: float = 0.9
+    max_distance: float = 6.0
     lost_after: float = 0.5
     depth_window: float = 0.4
     smooth: float = 0.5
@@ -133,6 +142,8 @@ class SilhouetteOptions:
             raise ConfigError("sigma must be > 0 and occlusion_m >= 1")
         if not 0 <= self.transition_weight <= 1 or not 0 < self.uniform < 1:
             raise ConfigError("transition_weight must be in 0..1 and uniform in (0, 1)")
+        if min(self.shift_search) < 0:
+            raise ConfigError("shift_search must be non-negative pixel counts")
         if not 0 < self.keep < 1 or min(self.max_expand) < 1:
             raise ConfigError("keep must be in (0, 1) and max_expand at least 1")
         if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:

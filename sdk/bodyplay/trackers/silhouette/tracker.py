@@ -121,6 +121,11 @@ class SilhouetteTracker:
         self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
         cap = min((d for _, d in self._depths), default=None)
         win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
+        if (win is None or not self._plausible(win)) and sil.region is not None:
+            # what moves is not a whole person yet: seek the floor point in the first
+            # frame's guess of the player as well
+            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
+                          sil.region)
         if win is not None:
             self._depths.append((frames.t, win.distance))
         if win is None or not self._plausible(win):
@@ -146,8 +151,11 @@ class SilhouetteTracker:
         return result
 
     def _plausible(self, win: ObservedWindow) -> bool:
-        """A person: at least ``min_height`` tall and not wider than the window."""
-        fg = win.foreground[0]
+        """A person: at least ``min_height`` tall, not wider than the window, standing
+        within ``max_distance`` of the camera."""
+        if win.distance > self.options.max_distance:
+            return False
+        fg = win.foreground[0] if win.region is None else win.region
         rows = np.flatnonzero(fg.any(axis=1))
         if rows.size == 0:
             return False
@@ -183,6 +191,10 @@ class SilhouetteTracker:
         sk = self._skeletons[body]
         bt = tree.bodies[body]
         R_align = win.views[2].R.T @ self._template_R
+        # the template's best position in the window moves the body sideways (and up)
+        mpp = self.geometry.mpp(2)
+        ground = win.ground + step.shift[0] * mpp * win.views[2].R[0]
+        lift = np.array([0.0, max(0.0, -step.shift[1] * mpp), 0.0])
         ratio = sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
         # joints: the few best leaves blended by posterior (the MAP leaf's pose vector)
         leaves = step.top[step.weights >= 0.2 * step.weights[0]]
@@ -193,10 +205,10 @@ class SilhouetteTracker:
             q = tree.poses[tree.node_pose[2][leaf]].copy()
             q[1] *= ratio
             J = sk.joint_positions(q) - q[0:3] + bt.offset[leaf]
-            joints += wk * (J @ R_align.T + win.ground)
+            joints += wk * (J @ R_align.T + ground + lift)
             if k == 0:
                 pose = q.copy()
-                pose[0:3] = R_align @ bt.offset[leaf] + win.ground
+                pose[0:3] = R_align @ bt.offset[leaf] + ground + lift
                 pose[3:6] = (Rotation.from_matrix(R_align) * Rotation.from_rotvec(q[3:6])
                              ).as_rotvec()
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
@@ -205,7 +217,7 @@ class SilhouetteTracker:
         occl = tree.occluded[step.leaf]
         states: tuple[JointState, ...] = tuple(
             "inferred" if occl[_JOINT_PART[j]] else "tracked" for j in range(NUM_JOINTS))
-        template, protect = self._back_project(bt, step.leaf, win, sil)
+        template, protect = self._back_project(bt, step.leaf, step.shift, win, sil)
         extras: dict[str, object] = {
             "silhouette": sil.foreground, "unknown": sil.unknown, "template": template,
             "silhouette_scale": sil.scale, "leaf": step.leaf, "distance": step.distance,
@@ -217,15 +229,16 @@ class SilhouetteTracker:
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
 
-    def _back_project(self, bt: object, leaf: int, win: ObservedWindow, sil: Silhouette
-                      ) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
+    def _back_project(self, bt: object, leaf: int, shift: tuple[int, int], win: ObservedWindow,
+                      sil: Silhouette) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
         """The chosen template in working-image pixels, and it dilated (the pixels the
         background model must not learn)."""
         runs = bt.runs[2]  # type: ignore[attr-defined]
         mask = runs.masks(np.array([leaf]))[0]
         H = _homography(self._cam, win.views[2], sil.scale)
         h, w = sil.foreground.shape
-        back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H), (w, h),
+        move = np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]], [0.0, 0.0, 1.0]])
+        back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H) @ move, (w, h),
                                    flags=cv2.INTER_LINEAR) >= 128
         r = max(2, int(0.04 * h))
         k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))

@@ -14,10 +14,12 @@ Prediction (eq. 2, 5): the prior of a leaf mixes
 * a small uniform share over all leaves (recovery after a failure; the start).
 
 Update (eq. 1) coarse to fine: every level-1 node is scored against the observed
-silhouette at 80x60; only the children of nodes whose posterior is at least
-``keep`` times the best (at most ``max_expand`` of them) are scored at the next
-level, and so on; leaves of pruned subtrees keep the likelihood of their deepest
-scored ancestor (piecewise constant, as the paper's "the subtree of that node is
+silhouette at 80x60, at every position of a small grid around the floor point
+(``shift_search``, the paper's global position in the state; each node keeps its
+best), its children at twice that shift and one pixel around it; only the
+children of nodes whose posterior is at least ``keep`` times the best (at most
+``max_expand`` of them) are scored at the next level, and so on; leaves of
+pruned subtrees keep the likelihood of their deepest scored ancestor (piecewise constant, as the paper's "the subtree of that node is
 not searched"). The likelihood is eq. 6, exp(-d^2 / 2 sigma_l^2), with sigma_l a
 multiple of the level's clustering threshold, taken relative to the best node of
 the level so that levels of different resolution combine.
@@ -31,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 
-from bodyplay.trackers.silhouette.distance import DistanceMaps, score_runs
+from bodyplay.trackers.silhouette.distance import DistanceMaps, score_runs_shifted
 from bodyplay.trackers.silhouette.hierarchy import BodyTemplates, ShapeTree
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 
@@ -41,13 +43,15 @@ __all__ = ["TreeFilter", "FilterStep"]
 @dataclass(frozen=True, eq=False)
 class FilterStep:
     """One filter update: the MAP leaf, its distance, the posterior's best leaves
-    and how many distances each level evaluated."""
+    and how many distances each level evaluated; ``shift`` is where the MAP leaf's
+    template fits best, in level-3 pixels (x right, y down)."""
 
     leaf: int
     distance: float
     top: NDArray[np.int64]
     weights: NDArray[np.float64]
     evaluations: tuple[int, int, int]
+    shift: tuple[int, int] = (0, 0)
 
 
 class TreeFilter:
@@ -72,6 +76,11 @@ class TreeFilter:
         init = np.exp(1.0 * yaw_cos)
         self._init = init / init.sum()
         self.posterior: NDArray[np.float64] | None = None
+        r = options.shift_search
+        self._grid0 = np.array([(x, y) for y in range(-r[1], r[1] + 1)
+                                for x in range(-r[0], r[0] + 1)], np.int64)
+        self._grid = np.array([(x, 0) for x in (-1, 0, 1)] + ([(0, -1), (0, 1)] if r[1] else []),
+                              np.int64)
 
     def reset(self) -> None:
         """Forget the posterior (the next step starts from the initial prior)."""
@@ -113,10 +122,19 @@ class TreeFilter:
         loglik = np.zeros(n_leaf)
         evals = []
         expand: NDArray[np.int64] = np.arange(len(tree.node_pose[0]), dtype=np.int64)
-        best_leaf, best_d = -1, np.inf
+        base = np.zeros((len(expand), 2), np.int64)
+        best_leaf, best_d, best_shift = -1, np.inf, (0, 0)
         for lv in range(3):
-            d = score_runs(maps[lv], self.body.runs[lv], expand)
-            evals.append(len(expand))
+            grid = self._grid0 if lv == 0 else self._grid
+            ns = len(grid)
+            cand = np.repeat(expand, ns)
+            sh = np.repeat(base, ns, axis=0) + np.tile(grid, (len(expand), 1))
+            dd = score_runs_shifted(maps[lv], self.body.runs[lv], cand, sh[:, 0], sh[:, 1])
+            dd = dd.reshape(len(expand), ns)
+            pick = np.argmin(dd, axis=1)
+            d = dd[np.arange(len(expand)), pick]
+            shift = sh.reshape(len(expand), ns, 2)[np.arange(len(expand)), pick]
+            evals.append(len(cand))
             sig = o.sigma * tree.options.thresholds[lv]
             ll = -0.5 * (d / sig) ** 2
             ll -= ll.max()
@@ -134,17 +152,23 @@ class TreeFilter:
             if lv == 2:
                 i = int(np.argmax(post))
                 best_leaf, best_d = int(expand[i]), float(d[i])
+                best_shift = (int(shift[i, 0]), int(shift[i, 1]))
                 break
             keep = post >= post.max() + np.log(o.keep)
             chosen = expand[keep]
             if keep.sum() > o.max_expand[lv]:
                 chosen = expand[np.argsort(post)[::-1][: o.max_expand[lv]]]
             start, end = tree.children[lv]
-            expand = np.concatenate([np.arange(start[c], end[c]) for c in chosen]).astype(np.int64)
+            where = {int(n): k for k, n in enumerate(expand)}
+            kids = [np.arange(start[c], end[c]) for c in chosen]
+            base = 2 * np.concatenate([np.repeat(shift[where[int(c)]][None], len(k), axis=0)
+                                       for c, k in zip(chosen, kids, strict=True)])
+            expand = np.concatenate(kids).astype(np.int64)
         logpost = np.log(np.maximum(prior, 1e-300)) + loglik
         logpost -= logpost.max()
         post = np.exp(logpost)
         post /= post.sum()
         self.posterior = post
         top = np.argsort(post)[::-1][:5]
-        return FilterStep(best_leaf, best_d, top, post[top], (evals[0], evals[1], evals[2]))
+        return FilterStep(best_leaf, best_d, top, post[top], (evals[0], evals[1], evals[2]),
+                          best_shift)

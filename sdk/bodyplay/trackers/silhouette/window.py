@@ -107,7 +107,8 @@ class ObservedWindow:
 
     ``foreground``/``unknown``: per level uint8 masks; ``ground``: the floor point G
     (world); ``views``: the virtual camera per level; ``distance``: G's horizontal
-    distance from the camera as the silhouette's lowest row gave it (before any cap).
+    distance from the camera as the silhouette's lowest row gave it (before any cap);
+    ``region``: the level-1 mask the floor point was found in, when not the foreground.
     """
 
     foreground: tuple[NDArray[np.uint8], ...]
@@ -115,6 +116,7 @@ class ObservedWindow:
     ground: NDArray[np.float64]
     views: tuple[Camera, ...]
     distance: float
+    region: NDArray[np.uint8] | None = None
 
 
 def _homography(real: Camera, view: Camera, scale: float) -> NDArray[np.float64]:
@@ -137,16 +139,18 @@ def _down(mask: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.uint8]:
 
 
 def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uint8],
-            unknown: NDArray[np.uint8], scale: float, distance_cap: float | None = None
-            ) -> ObservedWindow | None:
+            unknown: NDArray[np.uint8], scale: float, distance_cap: float | None = None,
+            region: NDArray[np.uint8] | None = None) -> ObservedWindow | None:
     """Find G and resample the working-resolution masks into the window (None when
     there is no silhouette or it does not stand on the floor in view).
 
     ``distance_cap`` pulls G nearer when the lowest row puts it farther (a jump lifts
     the feet off the floor; the tracker passes the nearest distance of the last
-    moments).
+    moments). ``region`` (default the foreground) is where the floor point is sought.
     """
-    a = anchor_point(foreground)
+    given = region
+    region = foreground if region is None else region
+    a = anchor_point(region)
     if a is None:
         return None
     u = (a[0] + 0.5) / scale - 0.5
@@ -157,7 +161,7 @@ def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uin
     c = camera.center
     for _ in range(2):  # refine G in the window (verticals are vertical there)
         view = geometry.view(c, g, 0)
-        m0 = _warp(foreground, _homography(camera, view, scale), geometry.size(0))
+        m0 = _warp(region, _homography(camera, view, scale), geometry.size(0))
         a0 = anchor_point(m0)
         if a0 is None:
             return None
@@ -178,4 +182,5 @@ def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uin
     un3 = _warp(unknown, H, geometry.size(2))
     fgs = (_down(fg3, geometry.size(0)), _down(fg3, geometry.size(1)), fg3)
     uns = (_down(un3, geometry.size(0)), _down(un3, geometry.size(1)), un3)
-    return ObservedWindow(fgs, uns, g, views, raw)
+    reg = None if given is None else _down(_warp(given, H, geometry.size(2)), geometry.size(0))
+    return ObservedWindow(fgs, uns, g, views, raw, reg)

@@ -1,0 +1,40 @@
+"""The silhouette tracker end to end on a short synthetic capture (player in view from
+frame 0, no empty room), with the tiny hierarchy of the ``silhouette_tree`` fixture."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.capture.jsonl import read_pose_jsonl
+from bodyplay.capture.sources import open_source
+from bodyplay.cli import main
+from bodyplay.errors import TimestampError
+from bodyplay.trackers.silhouette import SilhouetteOptions, create_silhouette_tracker
+
+pytestmark = pytest.mark.gl
+
+
+def test_silhouette_tracker_follows_a_synthetic_walk(synth_gl, tmp_path, silhouette_tree):
+    out = tmp_path / "cap"
+    assert main(["synth", "--clip", "131_01", "--frames", "40", "--out", str(out)]) == 0
+    truth = read_pose_jsonl(out / "truth.jsonl")
+    src = open_source(out)
+    assert src.cameras is not None
+    tracker = create_silhouette_tracker(SilhouetteOptions(body="m"), src.cameras[:1],
+                                        tree=silhouette_tree)
+    errs, found, last = [], 0, None
+    with src:
+        for fs in src:
+            r = tracker.process(fs)
+            last = fs
+            assert r.extras["silhouette"].dtype == np.uint8  # the mask, for overlays
+            if r.found:
+                found += 1
+                errs.append(np.linalg.norm(r.joints - truth.joints[fs.index], axis=1).mean())
+                assert set(r.state) <= {"tracked", "inferred"}
+    assert found >= 0.9 * len(truth.frames)
+    assert float(np.median(errs)) < 0.35  # a tiny tree: coarse, but on the player
+    assert last is not None
+    with pytest.raises(TimestampError):
+        tracker.process(last)
