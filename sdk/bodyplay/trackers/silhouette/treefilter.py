@@ -20,9 +20,10 @@ best), its children at twice that shift and one pixel around it; only the
 children of nodes whose posterior is at least ``keep`` times the best (at most
 ``max_expand`` of them) are scored at the next level, and so on; leaves of
 pruned subtrees keep the likelihood of their deepest scored ancestor (piecewise
-constant, as the paper's "the subtree of that node is not searched"). The likelihood is eq. 6, exp(-d^2 / 2 sigma_l^2), with sigma_l a
-multiple of the level's clustering threshold, taken relative to the best node of
-the level so that levels of different resolution combine.
+constant, as the paper's "the subtree of that node is not searched"). The
+likelihood is eq. 6, exp(-d^2 / 2 sigma_l^2), with sigma_l a multiple of the
+level's clustering threshold, taken relative to the best node of the level so that
+levels of different resolution combine.
 """
 
 from __future__ import annotations
