@@ -142,3 +142,50 @@ def test_lookahead_source_closes_cleanly_mid_stream(synth_gl, keeper_factory) ->
     assert not [t for t in threading.enumerate() if t.name.startswith("virtual-player")]
     with pytest.raises(CaptureError, match="closed"):
         next(iter(src))
+
+
+class _Flaky:
+    """A controller whose pose fails once, at 0.1 s (frame 3 at 30 fps)."""
+
+    def __init__(self, inner: ReachController) -> None:
+        self.inner = inner
+        self.skeleton = inner.skeleton
+
+    def pose_at(self, t: float) -> np.ndarray:
+        if abs(t - 0.1) < 1e-9:
+            raise RuntimeError("game bug")
+        return self.inner.pose_at(t)
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("lookahead", [False, True])
+def test_a_failing_frame_is_reported_and_the_stream_goes_on(synth_gl, keeper_factory,
+                                                            lookahead) -> None:
+    src = VirtualPlayerSource(_Flaky(keeper_factory()), seconds=0.2, size=(160, 120),
+                              lookahead=lookahead)
+    session = create_session(source=src, tracker=_CountingTracker())
+    errors = []
+    session.on("frame_error")(errors.append)
+    with session:
+        session.run()
+    assert session.frames == 6 and len(errors) == 1 and errors[0].stage == "source"
+    assert "frame 3" in errors[0].error and "game bug" in errors[0].error
+
+
+class _CountingTracker:
+    """A stand-in tracker: reports every joint lost (the source is under test)."""
+
+    def process(self, frames):  # type: ignore[no-untyped-def]
+        from bodyplay.trackers.base import TrackResult
+
+        return TrackResult(frame=frames.index, t=frames.t, joints=np.full((17, 3), np.nan),
+                           state=("lost",) * 17, confidence=np.zeros(17), ms=0.0)
+
+
+def test_pose_source_reports_a_failing_sample_and_goes_on(keeper_factory) -> None:
+    src = VirtualPoseSource(_Flaky(keeper_factory()), seconds=0.2)
+    session = create_session(source=src, clock=FixedClock(1 / 30))
+    errors = []
+    session.on("frame_error")(errors.append)
+    session.run()
+    assert session.frames == 6 and len(errors) == 1 and "sample 3" in errors[0].error

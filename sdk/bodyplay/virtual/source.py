@@ -73,7 +73,7 @@ class VirtualPlayerSource:
     (the player is in view from the first frame by default). Frame ``i`` is at
     ``i / fps`` seconds on the controller's clock. The stream plays once.
     ``lookahead`` renders the next frame in a worker thread while the caller
-    tracks this one (one frame of camera latency; see :meth:`_iter_ahead`).
+    tracks this one (one frame of camera latency; see docs/virtual-players.md).
     """
 
     pose_level = False
@@ -166,47 +166,21 @@ class VirtualPlayerSource:
         return np.asarray(self.controller.pose_at(t), dtype=np.float64)
 
     def __iter__(self) -> Iterator[FrameSet]:
-        """Render frame sets one at a time, posing the actor as the controller says."""
+        """Render frame sets one at a time, posing the actor as the controller says.
+
+        A frame whose pose or render fails raises CaptureError (naming the frame and
+        the cause) from ``next``; the stream goes on with the next frame, so a
+        session reports the one frame and keeps running.
+        """
         if self._closed:
             raise CaptureError("this VirtualPlayerSource was closed; create a new one")
         if self._started:
             raise CaptureError("a VirtualPlayerSource plays once (the game steers it live); "
                                "create a new one to play again")
         self._started = True
-        n = _frame_count(self.seconds, self.fps)
         if self.lookahead:
-            yield from self._iter_ahead(n)
-            return
-        i = 0
-        while (n is None or i < n) and not self._closed:
-            self.last = self._shoot(i, self._pose(i))
-            yield self.last.frames
-            i += 1
-
-    def _iter_ahead(self, n: int | None) -> Iterator[FrameSet]:
-        """Frame i + 1 renders in a worker thread while the caller tracks frame i.
-
-        Its pose is asked for before frame i is handed over, so a game's reaction
-        to frame i shows from frame i + 2 on (one frame of camera latency), and the
-        frames do not depend on the threads' timing. Every GL call of the camera
-        happens in the worker (an EGL context lives in one thread).
-        """
-        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="virtual-player")
-        self._pool = pool
-        pending: deque[Future[SynthFrame]] = deque()
-        try:
-            pending.append(pool.submit(self._shoot, 0, self._pose(0)))
-            i = 0
-            while pending and not self._closed:
-                if n is None or i + 1 < n:
-                    pending.append(pool.submit(self._shoot, i + 1, self._pose(i + 1)))
-                self.last = pending.popleft().result()
-                yield self.last.frames
-                i += 1
-        finally:
-            for fut in pending:
-                fut.cancel()
-            self._stop_pool()
+            self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="virtual-player")
+        return _FrameStream(self, _frame_count(self.seconds, self.fps))
 
     def _stop_pool(self) -> None:
         pool, self._pool = self._pool, None
@@ -233,6 +207,73 @@ class VirtualPlayerSource:
         tb: TracebackType | None,
     ) -> None:
         self.close()
+
+
+def _frame_error(i: int, exc: BaseException) -> CaptureError:
+    return CaptureError(f"virtual player frame {i} failed: {exc!r} (the controller's "
+                        f"pose_at or the synthetic camera); the stream goes on")
+
+
+class _FrameStream:
+    """The iterator of a :class:`VirtualPlayerSource` (one per source).
+
+    With ``lookahead`` frame i + 1 renders in the source's worker thread while the
+    caller tracks frame i. Its pose is asked for (in the caller's thread) before
+    frame i is handed over, so a game's reaction to frame i shows from frame i + 2
+    on (one frame of camera latency) and the frames never depend on thread timing.
+    Every GL call of the camera then happens in the worker (an EGL context belongs
+    to one thread).
+    """
+
+    def __init__(self, source: VirtualPlayerSource, n: int | None) -> None:
+        self.source = source
+        self.n = n
+        self.i = 0
+        self.pending: deque[Future[SynthFrame]] = deque()
+
+    def __iter__(self) -> _FrameStream:
+        return self
+
+    def _has(self, i: int) -> bool:
+        return self.n is None or i < self.n
+
+    def _submit(self, i: int) -> None:
+        src = self.source
+        assert src._pool is not None
+        try:
+            pose = src._pose(i)
+        except Exception as exc:  # reported when frame i is due
+            failed: Future[SynthFrame] = Future()
+            failed.set_exception(exc)
+            self.pending.append(failed)
+            return
+        self.pending.append(src._pool.submit(src._shoot, i, pose))
+
+    def _finish(self) -> None:
+        for fut in self.pending:
+            fut.cancel()
+        self.pending.clear()
+        self.source._stop_pool()
+
+    def __next__(self) -> FrameSet:
+        src = self.source
+        i = self.i
+        if src._closed or not self._has(i):
+            self._finish()
+            raise StopIteration
+        self.i += 1
+        try:
+            if src._pool is None:
+                src.last = src._shoot(i, src._pose(i))
+            else:
+                if not self.pending:
+                    self._submit(i)
+                if self._has(i + 1):
+                    self._submit(i + 1)
+                src.last = self.pending.popleft().result()
+        except Exception as exc:
+            raise _frame_error(i, exc) from exc
+        return src.last.frames
 
 
 class VirtualPoseSource:
@@ -281,23 +322,39 @@ class VirtualPoseSource:
         return n
 
     def __iter__(self) -> Iterator[PoseSample]:
-        """Pose samples, asking the controller for each just before yielding it."""
+        """Pose samples, asking the controller for each just before handing it over.
+
+        A sample whose pose fails raises CaptureError from ``next`` and the stream
+        goes on with the next one (a session reports the one frame).
+        """
         rng = np.random.default_rng(self.seed)
-        sk = self.controller.skeleton
         n = _frame_count(self.seconds, self.fps)
         i = 0
-        while n is None or i < n:
-            t = i / self.fps
-            q = np.asarray(self.controller.pose_at(t), dtype=np.float64)
-            truth = sk.joint_positions(q)
-            if truth.shape != (NUM_JOINTS, 3):
-                raise ConfigError(f"the controller's skeleton gave joints of shape {truth.shape}")
-            self.truth = truth
-            j = truth + rng.normal(0.0, self.noise, size=truth.shape) if self.noise else truth
-            if self.upper_body_only:
-                j = j.copy()
-                j[_LEGS] = np.nan
-            conf = np.where(np.all(np.isfinite(j), axis=1), 1.0, 0.0)
-            yield PoseSample(t=t, frame=i, joints=j, state=state_from_joints(j),
-                             confidence=conf, capabilities=self.capabilities, pose=q)
-            i += 1
+
+        def step() -> PoseSample:
+            nonlocal i
+            if n is not None and i >= n:
+                raise StopIteration
+            frame, i = i, i + 1
+            try:
+                return self._sample(frame, rng)
+            except Exception as exc:
+                raise CaptureError(f"virtual player sample {frame} failed: {exc!r}; "
+                                   f"the stream goes on") from exc
+
+        return iter(step, None)  # type: ignore[arg-type]
+
+    def _sample(self, i: int, rng: np.random.Generator) -> PoseSample:
+        t = i / self.fps
+        q = np.asarray(self.controller.pose_at(t), dtype=np.float64)
+        truth = self.controller.skeleton.joint_positions(q)
+        if truth.shape != (NUM_JOINTS, 3):
+            raise ConfigError(f"the controller's skeleton gave joints of shape {truth.shape}")
+        self.truth = truth
+        j = truth + rng.normal(0.0, self.noise, size=truth.shape) if self.noise else truth
+        if self.upper_body_only:
+            j = j.copy()
+            j[_LEGS] = np.nan
+        conf = np.where(np.all(np.isfinite(j), axis=1), 1.0, 0.0)
+        return PoseSample(t=t, frame=i, joints=j, state=state_from_joints(j),
+                          confidence=conf, capabilities=self.capabilities, pose=q)
