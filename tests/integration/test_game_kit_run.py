@@ -118,3 +118,40 @@ def test_rendered_frame_shows_the_avatar_in_its_color(tmp_path: Path) -> None:
     ys, xs = np.nonzero(orange)
     assert orange.sum() > 500
     assert abs(xs.mean() - 160) < 20  # centred: the figure stands at the origin
+
+
+class _FakeWindow:
+    """Stands in for the pygame window: a headless context and scripted key actions."""
+
+    def __init__(self, actions: dict[int, str]) -> None:
+        from bodyplay.render.gl import create_context
+
+        self.ctx = create_context(headless=True)
+        self.actions = actions
+        self.polls = 0
+        self.flips = 0
+
+    def poll(self) -> list[str]:
+        self.polls += 1
+        a = self.actions.get(self.polls)
+        return [a] if a else []
+
+    def flip(self) -> None:
+        self.flips += 1
+
+    def close(self) -> None:
+        self.ctx.release()
+
+
+def test_window_keys_pause_resume_and_quit(tmp_path: Path) -> None:
+    game = _Counter()
+    win = _FakeWindow({10: "pause", 20: "pause", 40: "quit"})
+    opts = make_game_options(headless=False, out=tmp_path, video=False, progress=False,
+                             realtime=False)
+    res = run_game(game, opts, source=_standing(3.0), window=win)
+    assert [p for _, p in game.pauses] == [True, False]
+    assert res.context.frames == 39  # quit before the 40th frame
+    assert win.flips == 39  # a window shows every frame
+    # ten frames paused: 38 frame gaps of play minus 10 paused = 28 frames of game time
+    assert res.context.t == pytest.approx(28 / 30, abs=1 / 60)
+    win.close()

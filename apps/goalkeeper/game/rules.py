@@ -85,8 +85,6 @@ class Ball:
     kicked: float
     z: float
     kicked_t: float = 0.0
-    saved_at: float | None = None
-    z_at_save: float = 0.0
     outcome: str = ""
     part: str = ""
     resolved_t: float = 0.0
@@ -151,7 +149,6 @@ class GoalkeeperLogic:
         if b is None or ev.obj != b.obj.name or b.outcome:
             return
         b.outcome, b.part = "save", ev.part
-        b.saved_at, b.z_at_save = self._now, b.z
         b.back_speed = 0.35 * b.shot.speed
         r.saves += 1
         r.saves_by[group] += 1
@@ -180,18 +177,6 @@ class GoalkeeperLogic:
         o = self.options
         goal = o.goal
         now = self._now = sim_time(world)
-        if b.saved_at is None:
-            b.z = goal.distance - b.shot.speed * (now - b.kicked)
-        else:
-            b.z = b.z_at_save + b.back_speed * max(0.0, now - b.saved_at)
-        near = abs(b.z - world.depth) <= o.window
-        shape = b.obj.shapes[0]
-        if b.outcome == "save":
-            shape.filter = _COLLIDE  # the deflected ball bounces off the keeper and the floor
-        elif not b.outcome and near:
-            shape.filter = _COLLIDE
-        else:
-            shape.filter = _NO_COLLISION
         if not b.outcome and b.z <= goal.line_z:
             x, y, _ = b.position
             inside = abs(x) <= goal.width / 2 and 0.0 <= y <= goal.height
@@ -206,9 +191,6 @@ class GoalkeeperLogic:
             world.remove(b.obj)
             r.ball = None
             r.timer = r.shots[r.next_shot].wait if r.next_shot < len(r.shots) else 1.0
-        if b.outcome == "goal" and b.z < goal.line_z - 0.5:  # the net stops it
-            b.z = goal.line_z - 0.5
-            b.obj.body.velocity = (0.0, min(0.0, b.obj.body.velocity.y))
 
     def _kick(self, ctx: GameContext, shot: Shot) -> None:
         world = ctx.physics
@@ -221,7 +203,19 @@ class GoalkeeperLogic:
         ball = Ball(shot, obj, sim_time(world), o.goal.distance,
                     kicked_t=float(ctx.pose.t) if ctx.pose is not None else 0.0)
 
+        shape = obj.shapes[0]
+
         def velocity(body: pymunk.Body, gravity: Any, damping: float, dt: float) -> None:
+            # every physics step: the depth moves on, and the ball meets the keeper's
+            # body parts only while it is within the window around the keeper's plane
+            if ball.outcome == "goal" and ball.z <= o.goal.line_z - 0.5:  # in the net
+                body.velocity = (0.0, body.velocity.y)
+                pymunk.Body.update_velocity(body, gravity, damping, dt)
+                return
+            ball.z += (ball.back_speed if ball.outcome == "save" else -shot.speed) * dt
+            near = abs(ball.z - world.depth) <= o.window
+            collide = ball.outcome == "save" or (not ball.outcome and near)
+            shape.filter = _COLLIDE if collide else _NO_COLLISION
             spin = shot.spin if not ball.outcome else 0.0
             pymunk.Body.update_velocity(body, (gravity[0] + spin, gravity[1]), damping, dt)
 

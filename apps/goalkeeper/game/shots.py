@@ -75,7 +75,7 @@ def plan_round(
     half = goal.width / 2 - ball_radius - 0.05
     for i in range(n):
         level = i / max(n - 1, 1)
-        speed = (7.0 + 6.0 * level) * rng.uniform(0.92, 1.08)
+        speed = (7.0 + 10.0 * level**1.5) * rng.uniform(0.92, 1.08)
         reach = 0.35 + (half - 0.35) * min(1.0, 0.25 + level)
         x = float(rng.uniform(0.25, 1.0) * reach * rng.choice((-1.0, 1.0)))
         y = float(rng.uniform(0.3, goal.height - ball_radius - 0.1))

@@ -550,6 +550,8 @@ class SceneRenderer:
         """Show an (H, W, 3) RGB picture (from :meth:`render`) on the context's screen
         (a window), stretched to it."""
         make_current(self.ctx)
+        if self.ctx.screen is None:  # a standalone (headless) context has no screen
+            return
         self._screen_tex.write(np.ascontiguousarray(image).tobytes())
         self._screen_tex.use(0)
         self.ctx.screen.use()
