@@ -7,7 +7,6 @@ from pathlib import Path
 
 import cv2
 import pytest
-
 from apps.goalkeeper.__main__ import main
 
 pytestmark = [pytest.mark.slow, pytest.mark.gl]

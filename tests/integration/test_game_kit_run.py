@@ -155,3 +155,29 @@ def test_window_keys_pause_resume_and_quit(tmp_path: Path) -> None:
     # ten frames paused: 38 frame gaps of play minus 10 paused = 28 frames of game time
     assert res.context.t == pytest.approx(28 / 30, abs=1 / 60)
     win.close()
+
+
+class _Flaky(_Counter):
+    def update(self, ctx: GameContext, dt: float) -> None:
+        super().update(ctx, dt)
+        if self.updates % 7 == 0:
+            raise RuntimeError("a bug in one step")
+
+
+def test_a_failing_game_step_is_logged_and_skipped(tmp_path: Path) -> None:
+    opts = make_game_options(headless=True, out=tmp_path, video=False, progress=False)
+    res = run_game(_Flaky(), opts, source=_standing(1.0))
+    assert res.summary["game_errors"] == res.summary["updates"] // 7 > 0
+
+
+class _Broken(_Counter):
+    def update(self, ctx: GameContext, dt: float) -> None:
+        raise RuntimeError("always")
+
+
+def test_a_game_failing_every_step_stops_with_a_game_error(tmp_path: Path) -> None:
+    from bodyplay.app import GameError
+
+    opts = make_game_options(headless=True, out=tmp_path, video=False, progress=False)
+    with pytest.raises(GameError, match="update failed 30 times"):
+        run_game(_Broken(), opts, source=_standing(2.0))

@@ -5,8 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from apps.goalkeeper.game.rules import GoalkeeperLogic, GoalkeeperOptions, Rules
-from apps.goalkeeper.game.view import camera_inset, draw_ball, draw_hud, draw_pitch
-from bodyplay.app import Game, GameContext, GameOptions, Scene
+from apps.goalkeeper.game.view import draw_ball, draw_hud, draw_pitch
+from bodyplay.app import Game, GameContext, GameOptions, Scene, camera_inset
 from bodyplay.physics import PhysicsOptions
 
 __all__ = ["GoalkeeperGame"]

@@ -3,15 +3,13 @@ shadow, the keeper, the score and the camera picture the tracker sees."""
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
 from apps.goalkeeper.game.rules import Rules, part_group
 from apps.goalkeeper.game.shots import Goal
 from bodyplay.app import GameContext, Scene
-from bodyplay.body.joints import BONES, JOINT_INDEX
 
-__all__ = ["draw_pitch", "draw_ball", "draw_hud", "camera_inset"]
+__all__ = ["draw_pitch", "draw_ball", "draw_hud"]
 
 _WHITE = (0.95, 0.95, 0.95)
 _NET = (0.85, 0.85, 0.88)
@@ -62,38 +60,12 @@ def draw_hud(ctx: GameContext, scene: Scene, rules: Rules) -> None:
     scene.text(f"SHOT {min(r.next_shot, len(r.shots))}/{len(r.shots)}", (14, 30), 0.9)
     scene.text(f"SAVES {r.saves}   GOALS {r.goals}", (14, 58), 0.9, (1.0, 0.95, 0.6))
     scene.text(f"streak {r.streak}  best {r.best_streak}", (14, 84), 0.7)
-    if taken and r.log:
-        last = r.log[-1]
-        b = r.ball
-        if b is not None and b.outcome:
-            text, color = _BANNER[b.outcome]
-            if b.outcome == "save":
-                text += f"  ({part_group(b.part)})"
-            scene.text(text, (scene.width / 2, 120), 1.8, color, anchor="center")
-        elif r.ball is None and last["outcome"] and r.timer > 0.3:
-            pass
+    b = r.ball
+    if taken and b is not None and b.outcome:  # the result, while the ball lingers
+        text, color = _BANNER[b.outcome]
+        if b.outcome == "save":
+            text += f"  ({part_group(b.part)})"
+        scene.text(text, (scene.width / 2, 120), 1.8, color, anchor="center")
     level = r.shots[min(r.next_shot, len(r.shots)) - 1].level if r.next_shot else 0.0
     scene.text(f"difficulty {'#' * (1 + int(level * 9))}", (14, scene.height - 16), 0.6,
                (0.95, 0.95, 0.95))
-
-
-def camera_inset(ctx: GameContext, scene: Scene, width: int = 160) -> None:
-    """The first camera's picture with the tracked skeleton, top right."""
-    fs = ctx.frame
-    cams = ctx.session.cameras
-    if fs is None or not cams:
-        return
-    img = fs.frames[0].image
-    h0, w0 = img.shape[:2]
-    height = int(round(width * h0 / w0))
-    small = cv2.resize(img, (width, height), interpolation=cv2.INTER_AREA)
-    pose = ctx.pose
-    if pose is not None:
-        uv = cams[0].project(pose.joints) * (width / w0)
-        for a, b in BONES:
-            pa, pb = uv[JOINT_INDEX[a]], uv[JOINT_INDEX[b]]
-            if np.all(np.isfinite(pa)) and np.all(np.isfinite(pb)):
-                cv2.line(small, (int(pa[0]), int(pa[1])), (int(pb[0]), int(pb[1])),
-                         (255, 200, 0), 1, cv2.LINE_AA)
-    scene.inset(small, (scene.width - width - 10, 10, width, height))
-    scene.text("camera + tracker", (scene.width - width - 10, height + 28), 0.5)

@@ -31,10 +31,17 @@ from bodyplay.app.options import GameOptions
 from bodyplay.app.renderer import SceneRenderer
 from bodyplay.app.scene import Scene
 from bodyplay.capture.frames import FrameSet
-from bodyplay.errors import CaptureError
+from bodyplay.errors import BodyplayError, CaptureError
 from bodyplay.events.types import PoseEvent, TrackingEvent
 
-__all__ = ["GameResult", "run_game"]
+__all__ = ["GameError", "GameResult", "run_game", "MAX_GAME_FAILURES"]
+
+MAX_GAME_FAILURES = 30
+"""Consecutive failures of a game's update or draw that end a run (fewer are skipped)."""
+
+
+class GameError(BodyplayError, RuntimeError):
+    """A game's own code kept failing; the message names the method and the error."""
 
 _log = logging.getLogger("bodyplay.app")
 
@@ -99,6 +106,8 @@ class _Loop:
         self.paused_seconds = 0.0
         self.user_paused = False
         self.found_once = False
+        self.failures = 0
+        self.errors = 0
         self.first_t: float | None = None
         session.source = _TimedSource(session.source, self.ctx)
         session.subscribe("pose", self._on_pose)
@@ -135,6 +144,23 @@ class _Loop:
                 self.set_paused(False)
         elif ev.status == "lost" and self.options.pause_when_lost and not self.ctx.paused:
             self.set_paused(True, "tracking lost")
+
+    def _guarded(self, what: str, fn: Any, *args: Any) -> None:
+        """Call a game method; a failure is logged and skipped (one bad step never
+        ends a run) unless it fails MAX_GAME_FAILURES times in a row."""
+        try:
+            fn(*args)
+        except Exception as exc:
+            self.failures += 1
+            self.errors += 1
+            _log.exception("%s.%s failed", type(self.game).__name__, what)
+            if self.failures >= MAX_GAME_FAILURES:
+                raise GameError(
+                    f"{type(self.game).__name__}.{what} failed {self.failures} times in a "
+                    f"row (last: {exc!r}); see the log above"
+                ) from exc
+        else:
+            self.failures = 0
 
     def set_paused(self, paused: bool, reason: str = "paused") -> None:
         """Pause or resume the game (key or tracking), telling the game."""
@@ -189,7 +215,7 @@ class _Loop:
         with ctx.timed("game"):
             while self.budget >= dt - 1e-9 and not ctx.finished:
                 self.budget -= dt
-                self.game.update(ctx, dt)
+                self._guarded("update", self.game.update, ctx, dt)
                 ctx.steps += 1
                 ctx.t = ctx.steps * dt
                 if self.options.seconds is not None and ctx.t >= self.options.seconds - 1e-9:
@@ -200,7 +226,7 @@ class _Loop:
         """The game's drawing of the current frame, with the kit's pause banner."""
         o = self.options
         scene = Scene(o.width, o.height)
-        self.game.draw(self.ctx, scene)
+        self._guarded("draw", self.game.draw, self.ctx, scene)
         if self.ctx.paused:
             msg = ("PLAYER LOST - step back into view" if self.ctx.pause_reason == "tracking lost"
                    else "PAUSED - press p to play")
@@ -360,6 +386,7 @@ def _summary(game: Game, loop: _Loop, inp: GameInput, wall: float,
         "game_steps": ctx.steps,
         "tracking_share": round(ctx.tracked_frames / frames, 4),
         "pauses": loop.pauses,
+        "game_errors": loop.errors,
         "paused_seconds": round(loop.paused_seconds, 4),
         "video": str(video) if video is not None else None,
     }
