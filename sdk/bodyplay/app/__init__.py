@@ -12,7 +12,6 @@ from bodyplay.app.game import STAGES, Game, GameContext
 from bodyplay.app.hud import camera_inset
 from bodyplay.app.inputs import GameInput, open_game_input
 from bodyplay.app.options import VIRTUAL_INPUT, GameOptions, display_available, make_game_options
-from bodyplay.app.overlays import camera_inset
 from bodyplay.app.renderer import SceneRenderer
 from bodyplay.app.runner import GameError, GameResult, run_game
 from bodyplay.app.scene import AVATAR_COLOR, LOST_COLOR, Scene
