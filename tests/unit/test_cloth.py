@@ -7,6 +7,7 @@ import pytest
 
 from bodyplay.cloth import (
     CAPSULE_NAMES,
+    BodyCapsules,
     Cloth,
     ClothOptions,
     Garment,
@@ -294,3 +295,25 @@ def test_body_height_is_the_median_of_the_first_poses(jacks: np.ndarray) -> None
     fixed = Cloth(skirt(resolution=0.3), ClothOptions(body_height=1.6))
     fixed.step(DT, bad)
     assert fixed.height == 1.6
+
+
+def test_separate_limbs_moves_a_sunken_elbow_out_of_the_torso(jacks: np.ndarray) -> None:
+    from bodyplay.cloth.body import body_capsules as caps_of
+
+    sunk = jacks[0].copy()
+    sunk[6] = 0.5 * (sunk[0] + sunk[3])  # left elbow on the spine
+    for separate in (False, True):
+        cloth = Cloth(skirt(resolution=0.3), ClothOptions(separate_limbs=separate))
+        cloth.step(DT, sunk)
+        for _ in range(20):
+            cloth.step(DT, sunk)
+        body = cloth.body_joints
+        caps = caps_of(body, cloth.height)
+        torso = [CAPSULE_NAMES.index("torso_l"), CAPSULE_NAMES.index("torso_r")]
+        inside = BodyCapsules(caps.a[torso], caps.b[torso], caps.radius[torso]).penetration(
+            body[6:7])[0]
+        if separate:
+            # the elbow's arm capsule only touches the torso: its centre is outside
+            assert inside == 0.0
+        else:
+            assert inside > 0.05

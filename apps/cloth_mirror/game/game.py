@@ -79,7 +79,11 @@ class ClothMirrorGame(Game):
 
     def setup(self, ctx: GameContext) -> None:
         """A fresh garment on nobody yet (it dresses the first pose)."""
-        self.cloth = Cloth(garment(self.garment_name), self.cloth_options)
+        opts = self.cloth_options
+        if getattr(getattr(ctx, "session", None), "cameras", ()):
+            # tracked input: limbs the tracker sinks into the torso are moved out
+            opts = ClothOptions(**(opts.__dict__ | {"separate_limbs": True}))
+        self.cloth = Cloth(garment(self.garment_name), opts)
         self._last_t = None
         self._last_joints = None
         self._stats = {k: [] for k in ("step_ms", "max_strain", "mean_strain",

@@ -19,7 +19,13 @@ from scipy.sparse.csgraph import dijkstra
 
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
 from bodyplay.cloth import kernels
-from bodyplay.cloth.body import BodyCapsules, body_capsules, body_frames, body_height
+from bodyplay.cloth.body import (
+    CAPSULE_NAMES,
+    BodyCapsules,
+    body_capsules,
+    body_frames,
+    body_height,
+)
 from bodyplay.cloth.garments import Garment
 from bodyplay.cloth.options import ClothOptions
 from bodyplay.errors import ConfigError
@@ -28,6 +34,11 @@ __all__ = ["Cloth", "ClothStep"]
 
 _MAX_CANDIDATES = 6
 _HEIGHT_POSES = 30  # poses whose torso sizes the body (median)
+_TORSO_CAPSULES = (CAPSULE_NAMES.index("torso_l"), CAPSULE_NAMES.index("torso_r"))
+_LIMB_JOINTS = tuple((JOINT_INDEX[j], CAPSULE_NAMES.index(c)) for j, c in (
+    ("l_elbow", "l_upper_arm"), ("l_wrist", "l_forearm"), ("r_elbow", "r_upper_arm"),
+    ("r_wrist", "r_forearm"), ("l_knee", "l_thigh"), ("l_ankle", "l_shin"),
+    ("r_knee", "r_thigh"), ("r_ankle", "r_shin")))
 _REQUIRED = tuple(JOINT_INDEX[n] for n in ("pelvis", "neck", "l_shoulder", "r_shoulder"))
 
 
@@ -203,11 +214,13 @@ class Cloth:
                 return self._result(dt, 0, lost, False, None, t0)
             target = self._fill(target)
             self._measure_height(target)
+            target = self._limbs_out(target)
             nsub = self._dress(dt, target)
         else:
             if target is not None and np.all(np.isfinite(target[list(_REQUIRED)])):
                 self._measure_height(target)
             target = self._fill(self._driven.copy() if target is None else target)
+            target = self._limbs_out(target)
             jump = float(np.linalg.norm(target[0] - self._driven[0]))
             if jump > self.options.teleport_distance:
                 self._teleport(target)
@@ -257,6 +270,30 @@ class Cloth:
         else:
             j[bad] = ref[bad]
         return j
+
+    def _limbs_out(self, j: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Elbows, wrists, knees and ankles a tracker put inside the torso are moved out
+        until their limb capsule only touches it (ClothOptions.separate_limbs)."""
+        if not self.options.separate_limbs or self._height is None:
+            return j
+        caps = body_capsules(j, self._height, self.options.radius_scale)
+        out = j.copy()
+        for joint, limb in _LIMB_JOINTS:
+            p = out[joint]
+            need_extra = caps.radius[limb]
+            for c in _TORSO_CAPSULES:
+                a, b = caps.a[c], caps.b[c]
+                ab = b - a
+                t = float(np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0))
+                e = p - (a + t * ab)
+                d = float(np.linalg.norm(e))
+                need = float(caps.radius[c]) + need_extra
+                if d < need:
+                    if d < 1e-9:
+                        continue
+                    p = p + e * ((need - d) / d)
+            out[joint] = p
+        return out
 
     def _measure_height(self, joints: NDArray[np.float64]) -> None:
         """Body height: the median of the first poses' estimates (a tracker's first pose

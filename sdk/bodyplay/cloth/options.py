@@ -35,7 +35,11 @@ class ClothOptions:
     particle's speed, a safety net against explosions.
 
     Body: ``body_height`` (m) sizes the collision capsules (None: the median of the
-    estimates from the first 30 poses' torsos); ``radius_scale`` scales every capsule radius.
+    estimates from the first 30 poses' torsos); ``radius_scale`` scales every capsule
+    radius; ``separate_limbs`` moves elbows, wrists, knees and ankles that the tracking
+    put inside the torso out until their limb only touches it (cloth caught between
+    a limb sunk into the torso and the torso could be outside neither; for tracked
+    input: it changes the pose, so mocap, whose limbs do not sink, goes without).
 
     Tracking glitches: the skeleton that drives the cloth follows the tracked joints
     with at most ``max_joint_speed`` (m/s) per joint, so a jump in the tracking is
@@ -73,6 +77,7 @@ class ClothOptions:
     max_speed: float = 15.0
     body_height: float | None = None
     radius_scale: float = 1.0
+    separate_limbs: bool = False
     max_joint_speed: float = 5.0
     teleport_distance: float = 0.5
     dress_seconds: float = 0.6
@@ -104,7 +109,7 @@ class ClothOptions:
         _in_range("teleport_distance", self.teleport_distance, 0.01, 100.0)
         _in_range("dress_seconds", self.dress_seconds, 0.0, 10.0)
         _in_range("tether_slack", self.tether_slack, 0.0, 1.0)
-        for name in ("tethers", "self_collision", "parallel"):
+        for name in ("tethers", "self_collision", "separate_limbs", "parallel"):
             if not isinstance(getattr(self, name), bool):
                 raise ConfigError(f"ClothOptions.{name} must be True or False, "
                                   f"got {getattr(self, name)!r}")
