@@ -15,13 +15,17 @@ from bodyplay.cli import main
 
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 WAVE = DATA / "mocap" / "bandai_namco" / "dataset-2_wave-both-hands_normal_001.bvh"
+# Without ../shared (a user's clone) the tests read the vendored CMU 13_29 from 9 s:
+# the same kind of motion as the wave clip (standing still, both arms moving; mean
+# wrist speed 0.9 m/s, pelvis 0.05 m/s, against 0.8 and 0.02 for the wave), not its
+# jumping jacks. Every threshold below holds on both (docs/reliability.md).
+CLIP, START = (str(WAVE), 0.0) if WAVE.exists() else ("13_29", 9.0)
 
 
 def _synth(out: Path, seconds: float, lighting: str = "steady", lead_in: float = 0.0) -> Path:
-    clip = str(WAVE) if WAVE.exists() else "13_29"
     try:
-        code = main(["synth", "--clip", clip, "--out", str(out), "--cameras", "2",
-                     "--seconds", str(seconds), "--lighting", lighting,
+        code = main(["synth", "--clip", CLIP, "--start", str(START), "--out", str(out),
+                     "--cameras", "2", "--seconds", str(seconds), "--lighting", lighting,
                      "--lead-in", str(lead_in)])
     except Exception as exc:  # no EGL context on this machine
         pytest.skip(f"synthetic camera unavailable: {exc}")

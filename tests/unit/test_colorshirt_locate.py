@@ -71,6 +71,7 @@ def test_locator_on_a_real_photo_without_shirt_is_not_found() -> None:
     assert not ShirtLocator().locate(img).found
 
 
+@pytest.mark.benchmark  # a speed measurement: flaky as a default test on a busy machine
 def test_locator_is_fast_at_640x480() -> None:
     rng = np.random.default_rng(12)
     img = clutter(480, 640, rng)

@@ -33,7 +33,7 @@ def _joints(n: int) -> np.ndarray:
 
 
 def _record(path: Path, joints: np.ndarray, **opts: object) -> None:
-    s = create_session(source=ArrayPoseSource(joints), clock=FixedClock())
+    s = create_session(source=ArrayPoseSource(joints), clock=FixedClock(), gestures=None)
     with record_session(s, path, RecorderOptions(**opts), meta={"who": "test"}):  # type: ignore[arg-type]
         s.run()
 

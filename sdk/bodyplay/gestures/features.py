@@ -221,6 +221,8 @@ def _elevation(f: FeatureFrame, a: list[int]) -> float:
 
 def _pelvis_drop(f: FeatureFrame, a: list[int]) -> float:
     s = f.calib.standing_pelvis - f.calib.floor
+    if not s > 0:  # no height learned yet (or a degenerate pose): no drop to measure
+        return float("nan")
     return float((f.calib.standing_pelvis - f.joints[_P, 1]) / s)
 
 

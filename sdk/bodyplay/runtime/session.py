@@ -418,7 +418,7 @@ def create_session(
     source: Any,
     tracker: Any = None,
     filters: Sequence[JointFilter | str] = (),
-    gestures: GestureRecognizer | str | Sequence[GestureRecognizer | str] | None = None,
+    gestures: GestureRecognizer | str | Sequence[GestureRecognizer | str] | None = "builtin",
     clock: Clock | None = None,
     bus: EventBus | None = None,
     plugins: Any = None,
@@ -428,7 +428,9 @@ def create_session(
     ``source`` is a PoseSource (no tracker) or a FrameSource (with ``tracker``).
     Filters, recognizers and the tracker may be objects or plugin names, resolved
     through ``plugins`` (a :class:`~bodyplay.plugins.PluginRegistry`; one reading the
-    installed entry points is made when needed). ``clock`` defaults to SystemClock.
+    installed entry points is made when needed). ``gestures`` defaults to the built-in
+    gesture set (``"builtin"``, as ``bodyplay events`` does); pass ``None`` or ``()``
+    for a session without gesture recognition. ``clock`` defaults to SystemClock.
     """
     opts = (options or SessionOptions()).validate()
     if not hasattr(source, "__iter__"):
