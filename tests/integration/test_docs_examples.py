@@ -172,6 +172,14 @@ session = create_session(source=ClipPoseSource("13_29"))
     ("docs/quickstart.md", 3): Example(_silent),
     ("docs/quickstart.md", 4): Example(_has(r"right wrist at \[.*\] \(tracked\)"), slow=True,
                                        gl=True),
+    ("docs/reliability.md", 0): Example(_silent, setup="""
+import os, tempfile
+import numpy as np
+path = os.path.join(tempfile.mkdtemp(), "tree.npz")
+key = "abc"
+def build():
+    return {"nodes": np.arange(4)}
+"""),
     ("docs/render.md", 0): Example(_silent, setup=_MESH),
     ("docs/render.md", 1): Example(_silent, gl=True, setup=_MESH + """
 colors = np.full((len(vertices[0]), 3), 0.7, np.float32)

@@ -36,7 +36,7 @@ def _inside_local_hull(point: np.ndarray, verts: np.ndarray, radius: float) -> b
 def test_actor_asset_is_small_and_carries_its_licence_notice() -> None:
     path = actor_asset_path()
     assert os.path.getsize(path) < 5_000_000
-    with np.load(path) as z:
+    with np.load(path, allow_pickle=False) as z:
         assert "CC0" in str(z["notice"])
 
 

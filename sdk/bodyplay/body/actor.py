@@ -63,7 +63,7 @@ def actor_asset_path() -> str:
 @lru_cache(maxsize=1)
 def _asset() -> dict[str, NDArray[np.generic]]:
     try:
-        with np.load(actor_asset_path()) as z:
+        with np.load(actor_asset_path(), allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}
     except FileNotFoundError:
         raise ConfigError(

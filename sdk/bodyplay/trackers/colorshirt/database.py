@@ -40,6 +40,7 @@ from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.body.skinning import SkinnedMesh
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
+from bodyplay.files import load_cache, save_cache
 from bodyplay.render.idmap import rasterize_ids
 
 __all__ = [
@@ -59,6 +60,7 @@ __all__ = [
 ]
 
 _FORMAT_VERSION = 4
+_CACHE_KIND = "colorshirt_pose_database"
 _POOL = 4  # feature pooling block (40x40 -> 10x10)
 
 
@@ -379,23 +381,24 @@ class PoseDatabase:
         )
 
     # ---- persistence --------------------------------------------------------------
-    def save(self, path: Path) -> Path:
-        """Write as a compressed ``.npz``."""
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".tmp.npz")
-        np.savez_compressed(
-            tmp, poses=self.poses, ids=self.ids, root_crop=self.root_crop,
-            root_depth=self.root_depth, crop_scale=self.crop_scale, pca_mean=self.pca_mean,
-            pca_basis=self.pca_basis,
-        )
-        tmp.replace(path)
-        return path
+    def save(self, path: Path, key: str = "") -> Path:
+        """Write as a compressed ``.npz`` stamped with ``key`` (see
+        :meth:`DatabaseOptions.cache_key`) and the format version, atomically
+        (:func:`bodyplay.files.save_cache`: a killed build never leaves half a file)."""
+        arrays: dict[str, NDArray[np.generic]] = {
+            "poses": self.poses, "ids": self.ids, "root_crop": self.root_crop,
+            "root_depth": self.root_depth, "crop_scale": self.crop_scale,
+            "pca_mean": self.pca_mean, "pca_basis": self.pca_basis}
+        return save_cache(path, arrays, kind=_CACHE_KIND, key=key, version=_FORMAT_VERSION)
 
     @classmethod
-    def load(cls, path: Path, options: DatabaseOptions) -> PoseDatabase:
-        """Read a database written by :meth:`save` (features are recomputed)."""
-        with np.load(path) as z:
-            data = {k: z[k] for k in z.files}
+    def load(cls, path: Path, options: DatabaseOptions, key: str = "") -> PoseDatabase:
+        """Read a database written by :meth:`save` with the same ``key`` (features are
+        recomputed); ConfigError if it is missing, damaged or made for other inputs or
+        another version (never loaded with pickle)."""
+        data = load_cache(path, kind=_CACHE_KIND, key=key, version=_FORMAT_VERSION)
+        if data is None:
+            raise ConfigError(f"{path}: not a pose database of this version for these inputs")
         ids = data["ids"]
         feats = (_features(ids) - data["pca_mean"]) @ data["pca_basis"].T
         return cls(options, data["poses"], ids, data["root_crop"], data["root_depth"],
@@ -483,13 +486,13 @@ def load_or_build_database(
     path = folder / f"colorshirt_db_{options.size}_{key}.npz"
     if path.exists():
         try:
-            return PoseDatabase.load(path, options)
+            return PoseDatabase.load(path, options, key)
         except (OSError, ValueError, KeyError):
-            path.unlink(missing_ok=True)  # a damaged cache file is rebuilt
+            pass  # damaged, or made by another version or for another body: rebuilt
     poses = sampler(skeleton, options.size, np.random.default_rng(options.seed), options)
     db = build_database(skeleton, options, poses, progress=progress)
     try:
-        db.save(path)
+        db.save(path, key)
     except OSError as exc:
         raise ConfigError(f"cannot write the pose database cache {path}: {exc}; "
                           "pass a writable --cache folder") from None
