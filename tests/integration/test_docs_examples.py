@@ -130,6 +130,12 @@ EXAMPLES: dict[tuple[str, int], Example] = {
     ("docs/capture.md", 0): Example(
         lambda out: (_has(r"^30\.0 \(Camera\(")(out)), setup=_CAPTURE),
     ("docs/capture.md", 1): Example(_silent, setup=_POSES),
+    ("docs/cloth.md", 0): Example(_has(r"^\S+ \S+ \S+$"), setup="""
+from bodyplay.motion import load_clip
+poses = load_clip("13_29", fps=60).slice(9.0, 0.5).joints()
+def draw(positions, faces):
+    assert positions.shape[1] == 3 and faces.shape[1] == 3
+"""),
     ("docs/colorshirt.md", 0): Example(_silent, slow=True, gl=True, setup="""
 import os, tempfile
 from bodyplay.cli import main
@@ -140,6 +146,7 @@ from bodyplay.capture import open_source
 source = open_source("capture")
 """),
     ("docs/colorshirt.md", 1): Example(_silent, skip="opens a window for the user to scribble in"),
+    ("docs/game-kit.md", 0): Example(_silent),  # defines the game; its main is not called
     ("docs/gestures.md", 0): Example(_silent, setup=_JOINTS),
     ("docs/motion.md", 0): Example(_silent, shared=True, setup=f"""
 import os, tempfile
@@ -179,6 +186,9 @@ path = os.path.join(tempfile.mkdtemp(), "tree.npz")
 key = "abc"
 def build():
     return {"nodes": np.arange(4)}
+"""),
+    ("docs/virtual-players.md", 0): Example(_silent, slow=True, gl=True, setup="""
+ball_launched_now = False
 """),
     ("docs/render.md", 0): Example(_silent, setup=_MESH),
     ("docs/render.md", 1): Example(_silent, gl=True, setup=_MESH + """
@@ -222,7 +232,7 @@ def _params() -> list[object]:
 
 def test_every_python_example_of_the_docs_has_a_check() -> None:
     missing = [(doc, i) for doc, i, _ in _blocks("python") if (doc, i) not in EXAMPLES]
-    assert not missing, f"add these examples to EXAMPLES: {missing}"
+    assert not missing, f"add these examples to EXAMPLES of {__file__}: {missing}"
     stale = set(EXAMPLES) - {(doc, i) for doc, i, _ in _blocks("python")}
     assert not stale, f"EXAMPLES names blocks that no longer exist: {stale}"
 

@@ -104,6 +104,7 @@ def _src(sk, n, rng, o):  # type: ignore[no-untyped-def]
     return q
 
 
+@pytest.mark.slow  # two bodies' meshes and databases: about 50 s here
 def test_pose_database_cache_of_another_body_or_version_is_rebuilt_not_trusted(
     tmp_path: Path,
 ) -> None:
