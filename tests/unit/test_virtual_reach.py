@@ -222,6 +222,10 @@ def test_reach_options_reject_unknown_names_and_out_of_range_values() -> None:
         make_reach_options(reaction=0.1)
     with pytest.raises(ConfigError, match="max_hand_speed"):
         make_reach_options(max_hand_speed=-1.0)
+    from bodyplay.virtual import ReachOptions
+
+    with pytest.raises(ConfigError, match="stance"):  # built without the factory
+        ReachController(options=ReachOptions(stance="bogus"))
 
 
 def test_min_jerk_starts_and_ends_at_rest() -> None:

@@ -26,7 +26,7 @@ changed the plan.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -215,7 +215,8 @@ class ReachController:
 
             skeleton = load_actor("m").skeleton
         self.skeleton = skeleton
-        self.options = options or ReachOptions()
+        # validated here too: options may be built without the factory
+        self.options = make_reach_options(**asdict(options)) if options else ReachOptions()
         self.weights = weights or ReachWeights()
         self.idle = idle or IdleMotion(skeleton, at=at, facing=facing)
         if self.idle.skeleton != skeleton:
