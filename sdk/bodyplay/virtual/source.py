@@ -172,6 +172,10 @@ class VirtualPlayerSource:
         the cause) from ``next``; the stream goes on with the next frame, so a
         session reports the one frame and keeps running.
         """
+        return _FrameStream(self, _frame_count(self.seconds, self.fps))
+
+    def _start(self) -> None:
+        """Checks and set-up at the first frame (iterating is lazy, like a generator)."""
         if self._closed:
             raise CaptureError("this VirtualPlayerSource was closed; create a new one")
         if self._started:
@@ -180,7 +184,6 @@ class VirtualPlayerSource:
         self._started = True
         if self.lookahead:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="virtual-player")
-        return _FrameStream(self, _frame_count(self.seconds, self.fps))
 
     def _stop_pool(self) -> None:
         pool, self._pool = self._pool, None
@@ -229,6 +232,7 @@ class _FrameStream:
         self.source = source
         self.n = n
         self.i = 0
+        self.begun = False
         self.pending: deque[Future[SynthFrame]] = deque()
 
     def __iter__(self) -> _FrameStream:
@@ -258,6 +262,9 @@ class _FrameStream:
     def __next__(self) -> FrameSet:
         src = self.source
         i = self.i
+        if not self.begun:
+            src._start()  # raises again on every call if this stream may not play
+            self.begun = True
         if src._closed or not self._has(i):
             self._finish()
             raise StopIteration
