@@ -378,6 +378,9 @@ class Cloth:
                      self._ti, self._tsrc, self._tlen, normals,
                      np.asarray(o.gravity, dtype=np.float64), wind, o.drag, o.damping,
                      h, nsub, o.max_speed, o.friction, o.thickness)
+        # overlapping capsules (an arm against the torso) can trap a particle that the
+        # substeps pushed from one into the other: move it out of all of them
+        kernels.resolve_union(self._x, self._w, c1.a, c1.b, radius, cand, ncand)
         self._driven = new.copy()
         return nsub
 

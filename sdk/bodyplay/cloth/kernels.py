@@ -345,3 +345,60 @@ def penetration(x, a, b, radius):  # pragma: no cover
             if d > out[i]:
                 out[i] = d
     return out
+
+
+@njit(cache=True)
+def _depth_and_exit(p, a, b, r, out):  # pragma: no cover
+    """Depth of ``p`` inside capsule (a, b, r) (<= 0 outside) and its exit point in ``out``."""
+    t = _closest_t(p, a, b)
+    e0 = p[0] - (a[0] + t * (b[0] - a[0]))
+    e1 = p[1] - (a[1] + t * (b[1] - a[1]))
+    e2 = p[2] - (a[2] + t * (b[2] - a[2]))
+    d = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+    if d < 1e-9:
+        e0, e1, e2, d = 0.0, 1.0, 0.0, 1.0
+    f = r / d
+    out[0] = a[0] + t * (b[0] - a[0]) + e0 * f
+    out[1] = a[1] + t * (b[1] - a[1]) + e1 * f
+    out[2] = a[2] + t * (b[2] - a[2]) + e2 * f
+    return r - d
+
+
+@njit(cache=True)
+def resolve_union(x, w, a, b, radius, cand, ncand):  # pragma: no cover
+    """Move free particles left inside overlapping capsules out of all of them.
+
+    For a particle inside one or more candidate capsules, each capsule's exit point is
+    tried; the nearest one outside every candidate wins (else the one least deep), up
+    to three times. Only positions change (a projection, no velocity).
+    """
+    trial = np.empty(3)
+    best = np.empty(3)
+    for i in range(x.shape[0]):
+        if w[i] == 0.0 or ncand[i] == 0:
+            continue
+        for _ in range(3):
+            inside = False
+            for m in range(ncand[i]):
+                c = cand[i, m]
+                if radius[c] - _segment_distance(x[i], a[c], b[c]) > 1e-6:
+                    inside = True
+                    break
+            if not inside:
+                break
+            best_cost = 1e30
+            for m in range(ncand[i]):
+                c = cand[i, m]
+                if _depth_and_exit(x[i], a[c], b[c], radius[c], trial) <= 0.0:
+                    continue
+                worst = 0.0
+                for m2 in range(ncand[i]):
+                    c2 = cand[i, m2]
+                    worst = max(worst, radius[c2] - _segment_distance(trial, a[c2], b[c2]))
+                move = math.sqrt((trial[0] - x[i, 0]) ** 2 + (trial[1] - x[i, 1]) ** 2
+                                 + (trial[2] - x[i, 2]) ** 2)
+                cost = move + 100.0 * worst
+                if cost < best_cost:
+                    best_cost = cost
+                    best[0], best[1], best[2] = trial[0], trial[1], trial[2]
+            x[i, 0], x[i, 1], x[i, 2] = best[0], best[1], best[2]
