@@ -6,7 +6,12 @@ one line instead of a traceback.
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
+from pathlib import Path
+
 __all__ = [
+    "reading",
     "BodyplayError",
     "BVHError",
     "CaptureError",
@@ -51,3 +56,34 @@ class UnknownEventError(BodyplayError, KeyError):
 
 class PluginError(BodyplayError, RuntimeError):
     """A plugin could not be loaded or does not provide what its entry point promises."""
+
+
+@contextlib.contextmanager
+def reading(path: str | Path, error: type[BodyplayError], what: str = "file") -> Iterator[None]:
+    """Turn anything that goes wrong while reading ``path`` into a BodyplayError naming it.
+
+    A BodyplayError that does not mention the file is raised again with ``path:`` in
+    front; any other exception (a malformed value deep in numpy, bad UTF-8, an overflow)
+    becomes ``error`` saying the file holds an unreadable ``what``. Readers wrap their
+    parsing in it so that bad input never ends in a traceback.
+    """
+    p = Path(path)
+    try:
+        yield
+    except BodyplayError as exc:
+        if p.name in str(exc):
+            raise
+        raise type(exc)(f"{p}: {exc}") from exc
+    except MemoryError:
+        raise
+    except UnicodeDecodeError as exc:
+        where = str(p)
+        with contextlib.suppress(OSError):
+            if isinstance(exc.object, bytes) and len(exc.object) == p.stat().st_size:
+                line = exc.object.count(b"\n", 0, exc.start) + 1  # the whole file was decoded
+                where = f"{p}:{line}"
+        raise error(f"{where}: not UTF-8 text (byte {exc.object[exc.start:exc.start + 1]!r}); "
+                    f"is this really a {what}?") from exc
+    except Exception as exc:
+        raise error(f"{p}: unreadable {what} ({type(exc).__name__}: {exc}); "
+                    "fix or replace the file") from exc

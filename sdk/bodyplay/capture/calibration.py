@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
-from bodyplay.errors import CalibrationError, ConfigError
+from bodyplay.errors import CalibrationError, ConfigError, reading
 
 __all__ = [
     "Board",
@@ -406,6 +406,12 @@ def read_qualisys_calib(path: str | Path, y_up: bool = True) -> list[Camera]:
     ``R = diag(1, -1, -1) M``. The Qualisys world is Z up; with ``y_up`` it is turned
     into bodyplay's Y-up world by (X, Y, Z) = (old y, old z, old x).
     """
+    with reading(path, CalibrationError, "Qualisys calibration"):
+        return _read_qualisys_calib_unchecked(path, y_up)
+
+
+def _read_qualisys_calib_unchecked(path: str | Path, y_up: bool = True) -> list[Camera]:
+    """The unchecked reader behind :func:`read_qualisys_calib`."""
     p = Path(path)
     if not p.is_file():
         raise CalibrationError(f"{p}: no such Qualisys calibration file")

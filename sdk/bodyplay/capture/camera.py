@@ -18,7 +18,8 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from bodyplay.errors import CalibrationError
+from bodyplay.errors import CalibrationError, reading
+from bodyplay.files import atomic_write
 
 __all__ = ["Camera", "read_calib", "write_calib", "look_at"]
 
@@ -207,14 +208,17 @@ def read_calib(path: str | Path) -> list[Camera]:
         raise CalibrationError(
             f"{p}: no calibration file; run `bodyplay calibrate` or pass the capture folder"
         )
-    try:
-        data = json.loads(p.read_text())
-    except json.JSONDecodeError as exc:
-        raise CalibrationError(f"{p}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-    cams = data.get("cameras") if isinstance(data, dict) else None
-    if not isinstance(cams, list) or not cams:
-        raise CalibrationError(f'{p}: expected {{"cameras": [...]}} with at least one camera')
-    return [Camera.from_dict(c, where=str(p)) for c in cams]
+    with reading(p, CalibrationError, "calibration (calib.json)"):
+        try:
+            data = json.loads(p.read_text())
+        except json.JSONDecodeError as exc:
+            raise CalibrationError(
+                f"{p}: not valid JSON ({exc.msg} at line {exc.lineno})"
+            ) from None
+        cams = data.get("cameras") if isinstance(data, dict) else None
+        if not isinstance(cams, list) or not cams:
+            raise CalibrationError(f'{p}: expected {{"cameras": [...]}} with at least one camera')
+        return [Camera.from_dict(c, where=str(p)) for c in cams]
 
 
 def write_calib(path: str | Path, cameras: Sequence[Camera]) -> Path:
@@ -222,5 +226,6 @@ def write_calib(path: str | Path, cameras: Sequence[Camera]) -> Path:
     p = Path(path)
     if p.is_dir():
         p = p / "calib.json"
-    p.write_text(json.dumps({"cameras": [c.to_dict() for c in cameras]}, indent=2))
+    with atomic_write(p, "w") as fh:  # whole or not at all
+        fh.write(json.dumps({"cameras": [c.to_dict() for c in cameras]}, indent=2))
     return p

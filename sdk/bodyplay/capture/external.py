@@ -21,7 +21,7 @@ import numpy as np
 
 from bodyplay.capture.calibration import read_qualisys_calib
 from bodyplay.capture.camera import Camera, write_calib
-from bodyplay.errors import CalibrationError, CaptureError
+from bodyplay.errors import CalibrationError, CaptureError, reading
 
 __all__ = ["read_toml_calib", "scale_about_center", "import_capture"]
 
@@ -33,6 +33,12 @@ def read_toml_calib(path: str | Path) -> list[Camera]:
     p2], ``rotation`` (a Rodrigues vector) and ``translation`` (metres), world to
     camera, OpenCV convention; the ``metadata`` table is skipped.
     """
+    with reading(path, CalibrationError, "TOML calibration"):
+        return _read_toml_calib_unchecked(path)
+
+
+def _read_toml_calib_unchecked(path: str | Path) -> list[Camera]:
+    """The unchecked reader behind :func:`read_toml_calib`."""
     p = Path(path)
     try:
         data = tomllib.loads(p.read_text())

@@ -23,7 +23,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES, NUM_JOINTS
-from bodyplay.errors import CaptureError
+from bodyplay.errors import CaptureError, reading
+from bodyplay.files import atomic_write
 
 __all__ = ["PoseTrack", "PoseJsonlWriter", "read_pose_jsonl", "write_pose_jsonl", "JOINT_STATES"]
 
@@ -224,6 +225,12 @@ def read_pose_jsonl(path: str | Path) -> PoseTrack:
     valid JSON) is dropped with a warning; any other malformed line raises
     CaptureError with its line number.
     """
+    with reading(path, CaptureError, "pose file (JSON lines)"):
+        return _read_pose_jsonl_unchecked(path)
+
+
+def _read_pose_jsonl_unchecked(path: str | Path) -> PoseTrack:
+    """The unchecked reader behind :func:`read_pose_jsonl`."""
     p = Path(path)
     if not p.is_file():
         raise CaptureError(f"{p}: no such pose file; expected truth.jsonl or poses.jsonl")
@@ -261,7 +268,7 @@ def write_pose_jsonl(
 ) -> Path:
     """Write a track as JSON lines; ``state=False, ms=False`` gives truth.jsonl form."""
     p = Path(path)
-    with p.open("w") as fh:
+    with atomic_write(p, "w") as fh:  # whole or not at all
         for rec in track.records(state=state, ms=ms):
             fh.write(json.dumps(rec, separators=(",", ":")) + "\n")
     return p

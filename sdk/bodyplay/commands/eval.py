@@ -6,6 +6,7 @@ import argparse
 import json
 
 from bodyplay.capture.jsonl import read_pose_jsonl
+from bodyplay.errors import CaptureError
 from bodyplay.evaluation import JOINT_SETS, evaluate, plot_errors
 
 __all__ = ["register", "run"]
@@ -37,6 +38,9 @@ def run(args: argparse.Namespace) -> int:
     """Evaluate and print the table (or JSON); write the plot when asked."""
     truth = read_pose_jsonl(args.truth)
     poses = read_pose_jsonl(args.poses)
+    for path, track in ((args.truth, truth), (args.poses, poses)):
+        if len(track) == 0:
+            raise CaptureError(f"{path}: no frames; nothing to evaluate")
     result = evaluate(truth, poses, joints=args.joints, thresholds_cm=args.pck)
     if args.plot:
         plot_errors(result, args.plot)

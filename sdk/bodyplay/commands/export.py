@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 import numpy as np
 
 from bodyplay.body.skeleton import Skeleton
-from bodyplay.errors import CaptureError
+from bodyplay.errors import CaptureError, reading
 from bodyplay.record.format import read_recording
 
 __all__ = ["register", "run"]
@@ -41,6 +42,13 @@ def run(args: argparse.Namespace) -> int:
     poses = [p for p in rec.poses if p.player == args.player]
     if not poses:
         raise CaptureError(f"{rec.path}: no poses of player {args.player} to export")
+    with reading(rec.path, CaptureError, "recording"):
+        _export(args, rec, poses)
+    print(f"exported {len(poses)} frames to {args.out}", file=sys.stderr)
+    return 0
+
+
+def _export(args: argparse.Namespace, rec: Any, poses: list[Any]) -> None:
     joints = np.stack([p.joints for p in poses])
     if args.format == "bvh":
         from bodyplay.motion.bvh import write_bvh
@@ -60,5 +68,3 @@ def run(args: argparse.Namespace) -> int:
             ms=np.full(len(poses), np.nan),
         )
         write_pose_jsonl(args.out, track, ms=False)
-    print(f"exported {len(poses)} frames to {args.out}", file=sys.stderr)
-    return 0

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from bodyplay.body.joints import JOINT_INDEX
-from bodyplay.errors import ConfigError
+from bodyplay.errors import ConfigError, reading
 from bodyplay.gestures.features import FEATURES
 
 __all__ = [
@@ -228,10 +228,11 @@ def _load_one(item: str | Path) -> list[GestureDefinition]:
                 raise ConfigError(f"{p}: no *.toml gesture definitions in this folder")
             return [d for f in files for d in _load_one(f)]
         try:
-            text = p.read_text(encoding="utf-8")
+            raw = p.read_bytes()
         except OSError as e:
             raise ConfigError(f"{p}: cannot read gesture definition ({e.strerror})") from None
-        return [parse_gesture(text, str(p), p.stem)]
+        with reading(p, ConfigError, "gesture definition"):
+            return [parse_gesture(raw.decode("utf-8"), str(p), p.stem)]
     name = str(item)
     if name in ("builtin", "all"):
         return [d for n in builtin_gesture_names() for d in _load_one(n)]

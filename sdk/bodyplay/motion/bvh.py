@@ -29,7 +29,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from bodyplay.body.skeleton import Skeleton
-from bodyplay.errors import BVHError, ConfigError
+from bodyplay.errors import BVHError, ConfigError, reading
+from bodyplay.files import atomic_write
 
 __all__ = ["BVHClip", "EndSite", "read_bvh", "write_bvh"]
 
@@ -265,6 +266,12 @@ def read_bvh(path: str | Path) -> BVHClip:
     Raises :class:`BVHError` with ``file:line: problem`` for malformed input; warns
     (``warnings.warn``) and uses the frames present when ``Frames:`` disagrees.
     """
+    with reading(path, BVHError, "BVH file"):
+        return _read_bvh_unchecked(path)
+
+
+def _read_bvh_unchecked(path: str | Path) -> BVHClip:
+    """The unchecked reader behind :func:`read_bvh`."""
     path = Path(path)
     text = _read_text(path)
     name = path.name
@@ -534,9 +541,7 @@ def write_bvh(
     body = "\n".join(" ".join(f"{x:.6f}" for x in row) for row in data)
     text = "\n".join(out) + "\n" + body + "\n"
     path = Path(path)
-    if path.suffix == ".gz":
-        with gzip.open(path, "wt", encoding="utf-8") as f:
-            f.write(text)
-    else:
-        path.write_text(text, encoding="utf-8")
+    raw = text.encode("utf-8")
+    with atomic_write(path) as f:  # whole or not at all
+        f.write(gzip.compress(raw, mtime=0) if path.suffix == ".gz" else raw)
     return path

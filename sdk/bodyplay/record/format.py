@@ -13,6 +13,7 @@ time, so a file cut short by a crash loses at most its last, partial line, which
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import MISSING, dataclass, fields
 from pathlib import Path
@@ -22,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
-from bodyplay.errors import CaptureError
+from bodyplay.errors import CaptureError, reading
 from bodyplay.events.bus import FrameErrorEvent, SubscriberErrorEvent
 from bodyplay.events.types import BUILTIN_EVENTS, Event, PoseEvent
 
@@ -55,6 +56,19 @@ def _to_array(value: Any) -> NDArray[np.float64]:
     arr = np.array(value, dtype=object)
     arr[arr == None] = np.nan  # noqa: E711 - elementwise comparison with JSON nulls
     return arr.astype(np.float64)
+
+
+def _check_pose(ev: PoseEvent) -> None:
+    """ValueError unless the pose has (17, 3) finite-or-NaN joints and 17 known states."""
+    joints = np.asarray(ev.joints)
+    if joints.shape != (17, 3) or np.isinf(joints).any():
+        raise ValueError(f"joints must be 17 [x, y, z] triples, got shape {joints.shape}")
+    if len(ev.state) != 17 or not set(ev.state) <= {"tracked", "inferred", "lost"}:
+        raise ValueError("state must list 17 of tracked / inferred / lost")
+    if not isinstance(ev.t, int | float) or not math.isfinite(ev.t):
+        raise ValueError(f"t must be a number, got {ev.t!r}")
+    if np.asarray(ev.confidence).shape not in ((17,), (0,)):
+        raise ValueError("confidence must hold 17 numbers")
 
 
 def event_from_json(data: Mapping[str, Any], classes: Mapping[str, type[Event]]) -> Event:
@@ -152,6 +166,14 @@ def read_recording(
     CaptureError naming the line if the file is not a recording or a complete line
     in the middle is corrupt.
     """
+    with reading(path, CaptureError, "recording"):
+        return _read_recording_unchecked(path, extra_events)
+
+
+def _read_recording_unchecked(
+    path: str | Path, extra_events: Iterable[type[Event]] = ()
+) -> Recording:
+    """The unchecked reader behind :func:`read_recording`."""
     p = Path(path)
     if p.is_dir():
         p = p / "recording.jsonl"
@@ -176,6 +198,9 @@ def read_recording(
             raise CaptureError(
                 f"{p}:{n}: corrupt line ({exc.msg}); the recording is damaged"
             ) from None
+        except UnicodeDecodeError:
+            raise CaptureError(f"{p}:{n}: corrupt line (not UTF-8); the recording is damaged"
+                               ) from None
         if not isinstance(d, dict) or "type" not in d:
             raise CaptureError(f"{p}:{n}: expected a JSON object with a 'type'")
         if header is None:
@@ -194,7 +219,10 @@ def read_recording(
             frames.append(FrameRecord(int(d["frame"]), float(d["t"]), files))
             continue
         try:
-            events.append(event_from_json(d, classes))
+            ev = event_from_json(d, classes)
+            if isinstance(ev, PoseEvent):
+                _check_pose(ev)
+            events.append(ev)
         except KeyError:
             unknown.append(d)
         except (TypeError, ValueError) as exc:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bodyplay.errors import CaptureError, reading
 from bodyplay.events.types import Event
 from bodyplay.record.format import Recording, read_recording
 from bodyplay.runtime.clock import FixedClock
@@ -42,8 +43,13 @@ class ReplaySource:
         )
         self.replay_events = tuple(replay_events)
         self.player = player
-        self.capabilities: tuple[str, ...] = tuple(self.recording.header.get("capabilities", ()))
-        self.cameras = tuple(self.recording.cameras)
+        with reading(self.recording.path, CaptureError, "recording header"):
+            caps = self.recording.header.get("capabilities", ())
+            if not isinstance(caps, list | tuple) or not all(isinstance(c, str) for c in caps):
+                raise CaptureError(f"{self.recording.path}: header capabilities must be a "
+                                   "list of names")
+            self.capabilities: tuple[str, ...] = tuple(caps)
+            self.cameras = tuple(self.recording.cameras)
 
     def __len__(self) -> int:
         return len(self.recording.poses)
