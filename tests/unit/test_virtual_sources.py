@@ -189,3 +189,25 @@ def test_pose_source_reports_a_failing_sample_and_goes_on(keeper_factory) -> Non
     session.on("frame_error")(errors.append)
     session.run()
     assert session.frames == 6 and len(errors) == 1 and "sample 3" in errors[0].error
+
+
+class _Still:
+    """A controller without frame_joints: the rest pose, 2 m to the side."""
+
+    def __init__(self) -> None:
+        from bodyplay.body.actor import load_actor
+
+        self.skeleton = load_actor("m").skeleton
+
+    def pose_at(self, t: float) -> np.ndarray:
+        q = self.skeleton.rest_pose()
+        q[0] = 2.0
+        return q
+
+
+def test_player_source_frames_a_controller_without_frame_joints_where_it_stands() -> None:
+    src = VirtualPlayerSource(_Still(), size=(320, 240))  # no frame rendered: no GL
+    assert src.cameras is not None
+    j = src.controller.skeleton.joint_positions(src.controller.pose_at(0.0))
+    uv = src.cameras[0].project(j)
+    assert np.all((uv > 0) & (uv < (320, 240)))  # framed where it stands, not at 0

@@ -56,6 +56,21 @@ def _check_seconds(seconds: float | None) -> float | None:
     return float(seconds)
 
 
+def _reach_area(skeleton: Any, pose: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(5, 17, 3) joints a camera should frame for a controller that does not say:
+    its first pose, and the rest pose where it stands with the arms raised and out
+    and a half-metre step either way (the synthetic camera's play area)."""
+    out = [skeleton.joint_positions(pose)]
+    for dx in (-0.5, 0.5):
+        for arm in (0.0, 1.2):
+            q = skeleton.pose(
+                root=(pose[0] + dx, skeleton.pelvis_height, pose[2]),
+                rotations={"l_shoulder": (0.0, 0.0, arm), "r_shoulder": (0.0, 0.0, -arm)},
+            )
+            out.append(skeleton.joint_positions(q))
+    return np.stack(out)
+
+
 def _frame_count(seconds: float | None, fps: float) -> int | None:
     return None if seconds is None else int(math.floor(seconds * fps + 1e-9)) + 1
 
@@ -68,7 +83,8 @@ class VirtualPlayerSource:
     preset; the controller should pose that actor's skeleton) and any other
     :func:`~bodyplay.synth.make_synthetic_camera_options` keyword (``camera_options``)
     set up the synthetic camera. The rig frames ``controller.frame_joints()`` when
-    the controller has it (else its pose at 0 s). ``seconds`` (None: no end) bounds
+    the controller has it (else its pose at 0 s and a play area about it: arms up
+    and out, a half-metre step either way). ``seconds`` (None: no end) bounds
     the stream; ``empty_room_seconds`` of the room without the player come first
     (the player is in view from the first frame by default). Frame ``i`` is at
     ``i / fps`` seconds on the controller's clock. The stream plays once.
@@ -118,7 +134,7 @@ class VirtualPlayerSource:
         if callable(framing):
             joints = np.asarray(framing(), dtype=np.float64)
         else:
-            joints = actor.skeleton.joint_positions(controller.pose_at(0.0))[None]
+            joints = _reach_area(actor.skeleton, np.asarray(controller.pose_at(0.0)))
         self.camera = SyntheticCamera(opts, frame_joints=joints, actor=actor,
                                       duration=self.seconds)
         self.options = opts
