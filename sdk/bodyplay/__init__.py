@@ -49,6 +49,7 @@ from bodyplay.errors import (
     CaptureError,
     ConfigError,
     PluginError,
+    SessionError,
     TimestampError,
     UnknownEventError,
 )
@@ -137,6 +138,7 @@ __all__ = [
     "ScriptedPlayer",
     "Session",
     "SessionOptions",
+    "SessionError",
     "Skeleton",
     "SkinnedMesh",
     "SystemClock",

@@ -20,6 +20,7 @@ __all__ = [
     "TimestampError",
     "UnknownEventError",
     "PluginError",
+    "SessionError",
 ]
 
 
@@ -52,6 +53,10 @@ class UnknownEventError(BodyplayError, KeyError):
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""
+
+
+class SessionError(BodyplayError, RuntimeError):
+    """A running session cannot go on or be stopped (e.g. a subscriber never returns)."""
 
 
 class PluginError(BodyplayError, RuntimeError):

@@ -190,7 +190,10 @@ def test_webcam_timestamps_come_from_the_injected_clock() -> None:
     ticks = iter([100.0, 100.05, 100.09])
     device = FakeDevice(3)
     src = WebcamSource(1, clock=lambda: next(ticks), opener=lambda i: device)
-    sets = list(src)
+    frames = iter(src)
+    sets = [next(frames) for _ in range(3)]
+    with pytest.raises(CaptureError, match="webcam 1: no frame"):  # unplugged: an error,
+        next(frames)                                               # not the end
     assert [fs.t for fs in sets] == pytest.approx([0.0, 0.05, 0.09])
     assert sets[0][0].camera == "cam1" and src.size == (W, H)
     src.close()

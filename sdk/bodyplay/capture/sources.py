@@ -417,8 +417,14 @@ class WebcamSource(_SourceBase):
     requests to the driver; the size actually delivered is in :attr:`size` and must
     match ``camera`` when one is given. ``opener`` builds the capture object (default
     ``cv2.VideoCapture``), so a recorded or fake device can stand in for hardware.
-    Iteration runs until the device stops delivering frames or the source is closed.
+    Iteration runs until the source is closed: a read that fails (the camera was
+    unplugged) raises CaptureError from ``next()`` after trying to reopen the device,
+    and the next ``next()`` reads again, so a session reports the gap and goes on when
+    frames come back. The source is ``live``: a session watches it for stalls
+    (``SessionOptions.frame_timeout``).
     """
+
+    live = True
 
     def __init__(
         self,
@@ -433,7 +439,9 @@ class WebcamSource(_SourceBase):
     ) -> None:
         self.index = int(index)
         self._clock = clock
-        cap = (opener or cv2.VideoCapture)(self.index)
+        self._opener = opener or cv2.VideoCapture
+        self._request = (float(width), float(height), float(fps))
+        cap = self._opener(self.index)
         if cap is None or not cap.isOpened():
             if cap is not None:
                 cap.release()
@@ -458,23 +466,55 @@ class WebcamSource(_SourceBase):
 
     def __iter__(self) -> Iterator[FrameSet]:
         self._check_open()
-        t0: float | None = None
-        i = 0
-        while not self._closed:
-            ok, image = self._cap.read()
-            if not ok or image is None:
-                return
-            now = self._clock()
-            if t0 is None:
-                t0 = now
-            t = float(now - t0)
-            yield FrameSet((Frame(_to_rgb(image), t, i, self.camera_name),), t, i)
-            i += 1
+        return _WebcamFrames(self)
+
+    def _reopen(self) -> None:
+        """Release the device and open it again (after a failed read)."""
+        self._cap.release()
+        cap = self._opener(self.index)
+        if cap is not None and cap.isOpened():
+            w, h, fps = self._request
+            cap.set(cv2.CAP_PROP_FRAME_WIDTH, w)
+            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, h)
+            cap.set(cv2.CAP_PROP_FPS, fps)
+            self._cap = cap
 
     def close(self) -> None:
         """Release the device."""
         self._cap.release()
         super().close()
+
+
+class _WebcamFrames:
+    """Iterator over a webcam's frames that survives failed reads (see WebcamSource)."""
+
+    def __init__(self, cam: WebcamSource) -> None:
+        self.cam = cam
+        self.t0: float | None = None
+        self.index = 0
+
+    def __iter__(self) -> _WebcamFrames:
+        return self
+
+    def __next__(self) -> FrameSet:
+        cam = self.cam
+        if cam._closed:
+            raise StopIteration
+        ok, image = cam._cap.read()
+        if not ok or image is None:
+            if cam._closed:
+                raise StopIteration
+            cam._reopen()
+            raise CaptureError(
+                f"webcam {cam.index}: no frame (unplugged or in use?); trying again"
+            )
+        now = cam._clock()
+        if self.t0 is None:
+            self.t0 = now
+        t = float(now - self.t0)
+        i = self.index
+        self.index += 1
+        return FrameSet((Frame(_to_rgb(image), t, i, cam.camera_name),), t, i)
 
 
 def open_source(

@@ -10,6 +10,7 @@ line, so a line never names a missing image.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import time
@@ -20,7 +21,7 @@ from typing import Any, Literal
 import cv2
 
 from bodyplay.capture.frames import FrameSet
-from bodyplay.errors import ConfigError
+from bodyplay.errors import CaptureError, ConfigError
 from bodyplay.events.types import Event
 from bodyplay.record.format import FORMAT, VERSION, event_line
 
@@ -75,14 +76,29 @@ class _LineFile:
             ) from None
         self._last_sync = time.monotonic()
         self.lines = 0
+        self._bytes = os.fstat(self.fd).st_size
+        self.failed: str | None = None
 
     def write(self, data: bytes) -> None:
+        """Append one whole line; on a failed write (disk full) cut the file back to its
+        last whole line and refuse every later write, so the file stays readable."""
         if self.fd is None:
             raise ConfigError(f"{self.path}: the recorder is closed")
+        if self.failed is not None:
+            raise CaptureError(f"{self.path}: recording stopped after a failed write "
+                               f"({self.failed}); {self.lines} lines kept")
         view = memoryview(data)
-        while view:
-            n = os.write(self.fd, view)
-            view = view[n:]
+        try:
+            while view:
+                n = os.write(self.fd, view)
+                view = view[n:]
+        except OSError as exc:
+            self.failed = exc.strerror or repr(exc)
+            with contextlib.suppress(OSError):
+                os.ftruncate(self.fd, self._bytes)  # no half line at the end
+            raise CaptureError(f"{self.path}: cannot write ({self.failed}); recording "
+                               f"stopped, the {self.lines} lines so far are kept") from exc
+        self._bytes += len(data)
         self.lines += 1
         pol = self.options.fsync
         if pol == "line":

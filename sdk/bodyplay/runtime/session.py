@@ -18,8 +18,10 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import sys
 import threading
 import time
+import traceback
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
@@ -29,7 +31,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import NUM_JOINTS
 from bodyplay.capture.frames import FrameSet
-from bodyplay.errors import CaptureError, ConfigError
+from bodyplay.errors import CaptureError, ConfigError, SessionError
 from bodyplay.events.bus import EventBus, FrameErrorEvent
 from bodyplay.events.types import Event, PoseEvent, TrackingEvent
 from bodyplay.filters.base import JointFilter
@@ -65,7 +67,12 @@ class SessionOptions:
     queue; ``max_source_errors`` consecutive source failures end the session with a
     CaptureError; ``realtime`` paces :meth:`Session.run` to the capture times (for
     recorded or scripted sources played to a live game); ``capabilities`` are added
-    to every pose event.
+    to every pose event. ``frame_timeout``: a live source (a webcam: ``live = True``)
+    that delivers nothing for this many seconds is reported as a failed frame
+    (``frame_error``, and ``tracking: lost``) instead of hanging the session (None: wait
+    forever); ``source_timeout``: seconds of the session clock without a frame after
+    which the session ends with a CaptureError (with ``max_source_errors``, whichever
+    comes first).
     """
 
     player: int = 0
@@ -76,6 +83,8 @@ class SessionOptions:
     realtime: bool = False
     reset_on_lost: bool = True
     capabilities: tuple[str, ...] = ()
+    frame_timeout: float | None = 2.0
+    source_timeout: float = 30.0
 
     def validate(self) -> SessionOptions:
         """Return self, or raise ConfigError naming the bad option."""
@@ -89,6 +98,12 @@ class SessionOptions:
             v = getattr(self, name)
             if not isinstance(v, int) or isinstance(v, bool) or v < lo:
                 raise ConfigError(f"SessionOptions.{name} must be an integer >= {lo}, got {v!r}")
+        ft = self.frame_timeout
+        if ft is not None and not (isinstance(ft, int | float) and ft > 0):
+            raise ConfigError(f"SessionOptions.frame_timeout must be positive or None, got {ft!r}")
+        if not (isinstance(self.source_timeout, int | float) and self.source_timeout > 0):
+            raise ConfigError("SessionOptions.source_timeout must be positive seconds, got "
+                              f"{self.source_timeout!r}")
         if not all(isinstance(c, str) for c in self.capabilities):
             raise ConfigError("SessionOptions.capabilities must be a tuple of strings")
         return self
@@ -98,6 +113,19 @@ class SessionOptions:
         d = dataclasses.asdict(self)
         d["capabilities"] = list(self.capabilities)
         return d
+
+
+def _blocked_in(thread: threading.Thread) -> str:
+    """Where ``thread`` is now: its innermost frame outside bodyplay's loop and threading."""
+    frame = sys._current_frames().get(thread.ident or -1)
+    if frame is None:
+        return "an unknown place"
+    skip = ("threading.py", "runtime/session.py", "events/bus.py", "runtime/watchdog.py")
+    stack = [f for f in traceback.extract_stack(frame) if not f.filename.endswith(skip)]
+    if not stack:
+        return "bodyplay's own loop"
+    f = stack[0] if len(stack) == 1 else stack[-1]
+    return f"{f.name} ({f.filename}:{f.lineno})"
 
 
 def _check_kind(obj: object, methods: Sequence[str], what: str) -> None:
@@ -151,6 +179,8 @@ class Session:
         self._found = False
         self._lost_run = 0
         self._source_errors = 0
+        self._failing_since: float | None = None
+        self._last_t = float("nan")
         self._latest: PoseEvent | None = None
         self._frame_listeners: list[Callable[[Any], object]] = []
         self._lock = threading.RLock()
@@ -212,16 +242,35 @@ class Session:
             except StopIteration:
                 return None
             except Exception as exc:
-                self._source_errors += 1
-                self._report(self.frames, float("nan"), "source", exc)
-                if self._source_errors >= self.options.max_source_errors:
-                    raise CaptureError(
-                        f"the source failed {self._source_errors} times in a row "
-                        f"(last: {exc!r}); check the camera or file it reads"
-                    ) from exc
+                self._source_failed(exc)
                 continue
             self._source_errors = 0
+            self._failing_since = None
             return item
+
+    def _source_failed(self, exc: Exception) -> None:
+        """Report a failed read (``frame_error``, ``tracking: lost``); end the session
+        with a CaptureError once the failures last too long."""
+        self._source_errors += 1
+        now = self.clock.now()
+        if self._failing_since is None:
+            self._failing_since = now
+        self._report(self.frames, self._last_t, "source", exc)
+        if self._found:
+            self._found = False
+            self.bus.emit(TrackingEvent(t=self._last_t, emitted_t=now, status="lost",
+                                        frame=self.frames, player=self.options.player))
+            if self.options.reset_on_lost:
+                self._reset_stages()
+        silent = now - self._failing_since
+        if (self._source_errors >= self.options.max_source_errors
+                or silent >= self.options.source_timeout):
+            raise CaptureError(
+                f"the source failed {self._source_errors} times in a row, no frame for "
+                f"{silent:.1f} s (limits: source_timeout={self.options.source_timeout} s, "
+                f"max_source_errors={self.options.max_source_errors}; last: {exc}); "
+                "check the camera or file it reads"
+            ) from exc
 
     def step(self) -> PoseEvent | None:
         """Consume one frame and emit its events.
@@ -279,6 +328,7 @@ class Session:
             raise ConfigError(
                 f"source yielded {type(item).__name__}; expected PoseSample or FrameSet"
             )
+        self._last_t = t
         if joints.shape != (NUM_JOINTS, 3) or len(state) != NUM_JOINTS:
             self._report(frame, t, "source", ValueError(f"joints of shape {joints.shape}"))
             return None
@@ -389,6 +439,11 @@ class Session:
         self._stop.set()
         if self._thread is not None:
             self._thread.join(timeout)
+            if self._thread.is_alive():
+                raise SessionError(
+                    f"the session's worker did not stop within {timeout} s: it is blocked in "
+                    f"{_blocked_in(self._thread)}; a subscriber or the source must return"
+                )
         self._raise_thread_error()
 
     def _raise_thread_error(self) -> None:
@@ -468,4 +523,8 @@ def create_session(
         recs.append(obj)
     if clock is not None and not callable(getattr(clock, "now", None)):
         raise ConfigError(f"clock {clock!r} has no now() method")
+    if getattr(source, "live", False) is True and opts.frame_timeout is not None:
+        from bodyplay.runtime.watchdog import WatchedSource
+
+        source = WatchedSource(source, opts.frame_timeout)
     return Session(opts, source, tracker, flts, recs, clock, bus)
