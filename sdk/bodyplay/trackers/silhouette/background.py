@@ -140,12 +140,12 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     small = np.asarray(cv2.resize(image, (max(8, int(w * s)), max(8, int(h * s))),
                                   interpolation=cv2.INTER_AREA), np.uint8)
     sh, sw = small.shape[:2]
-    mx, my = int(0.08 * sw), int(0.04 * sh)
+    mx, my, mb = int(0.08 * sw), int(0.04 * sh), int(0.02 * sh)
     mask = np.zeros((sh, sw), np.uint8)
     bgd = np.zeros((1, 65), np.float64)
     fgd = np.zeros((1, 65), np.float64)
     try:
-        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (mx, my, sw - 2 * mx, sh - my),
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (mx, my, sw - 2 * mx, sh - my - mb),
                     bgd, fgd, 3, cv2.GC_INIT_WITH_RECT)
     except cv2.error:
         return np.zeros(size[::-1], bool)

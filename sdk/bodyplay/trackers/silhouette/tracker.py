@@ -97,6 +97,7 @@ class SilhouetteTracker:
         self._t: float | None = None
         self._bad = 0
         self._depths: list[tuple[float, float]] = []
+        self._distance: float | None = None
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
 
     # ---- the pipeline -------------------------------------------------------------
@@ -120,12 +121,10 @@ class SilhouetteTracker:
         keep_for = self.options.depth_window
         self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
         cap = min((d for _, d in self._depths), default=None)
-        win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
-        if (win is None or not self._plausible(win)) and sil.region is not None:
-            # what moves is not a whole person yet: seek the floor point in the first
-            # frame's guess of the player as well
-            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
-                          sil.region)
+        # the floor point: the lowest of what moves and what may still be the player
+        # (the first frame's guess not learned yet)
+        win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
+                      sil.region)
         if win is not None:
             self._depths.append((frames.t, win.distance))
         if win is None or not self._plausible(win):

@@ -140,13 +140,15 @@ def _down(mask: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.uint8]:
 
 def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uint8],
             unknown: NDArray[np.uint8], scale: float, distance_cap: float | None = None,
-            region: NDArray[np.uint8] | None = None) -> ObservedWindow | None:
+            region: NDArray[np.uint8] | None = None, distance_fix: float | None = None
+            ) -> ObservedWindow | None:
     """Find G and resample the working-resolution masks into the window (None when
     there is no silhouette or it does not stand on the floor in view).
 
     ``distance_cap`` pulls G nearer when the lowest row puts it farther (a jump lifts
     the feet off the floor; the tracker passes the nearest distance of the last
-    moments). ``region`` (default the foreground) is where the floor point is sought.
+    moments); ``distance_fix`` sets the distance outright (the feet are not seen).
+    ``region`` (default the foreground) is where the floor point is sought.
     """
     given = region
     region = foreground if region is None else region
@@ -173,8 +175,10 @@ def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uin
     off = g - c
     off[1] = 0.0
     raw = float(np.linalg.norm(off))
-    if distance_cap is not None and raw > distance_cap > 0:
-        g = c + off * (distance_cap / raw)
+    want = distance_fix if distance_fix is not None else (
+        distance_cap if distance_cap is not None and raw > distance_cap > 0 else None)
+    if want is not None and raw > 0:
+        g = c + off * (want / raw)
         g[1] = 0.0
     views = tuple(geometry.view(c, g, lv) for lv in range(3))
     H = _homography(camera, views[2], scale)
