@@ -145,8 +145,9 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     bgd = np.zeros((1, 65), np.float64)
     fgd = np.zeros((1, 65), np.float64)
     try:
-        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (mx, my, sw - 2 * mx, sh - my - mb),
-                    bgd, fgd, 3, cv2.GC_INIT_WITH_RECT)
+        rect = (mx, my, sw - 2 * mx, sh - my - mb)
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, rect, bgd, fgd, 3,
+                    cv2.GC_INIT_WITH_RECT)
     except cv2.error:
         return np.zeros(size[::-1], bool)
     guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
