@@ -105,7 +105,8 @@ class SilhouetteOptions:
     frames with a person); ``sigma``: likelihood scale per level relative to that
     level's clustering threshold; ``keep``: posterior share (of the best node)
     below which a subtree is pruned, ``max_expand`` the most nodes expanded per
-    level; ``shift_search``: the level-1 grid of positions tried around the floor
+    level, ``explore`` how many best-fitting nodes are expanded whatever their
+    prior; ``shift_search``: the level-1 grid of positions tried around the floor
     point, (x, y) pixels each way (a level-1 pixel is 3.6 cm); ``occlusion_m``:
     eq. 14's m; ``transition_weight``: share of the
     prediction from the training transition histograms (the rest from the
@@ -116,7 +117,11 @@ class SilhouetteOptions:
     point farther from the camera (m), is not a person (the automatic start);
     ``depth_window``: seconds over which the nearest floor distance
     is kept (jumps lift the feet); ``smooth``: share of the previous joints kept
-    (exponential smoothing of the discrete templates); ``cache``: hierarchy cache folder.
+    (exponential smoothing of the discrete templates); ``max_recession``: m/s the
+    floor point may move away from the camera (feet hidden by a bow or a lost leg
+    would put it metres away); ``bootstrap_time``: seconds after the start during
+    which the first frame's guess of the player counts for the floor point;
+    ``cache``: hierarchy cache folder.
     """
 
     body: str = "auto"
@@ -126,14 +131,17 @@ class SilhouetteOptions:
     keep: float = 0.02
     max_expand: tuple[int, int] = (24, 48)
     shift_search: tuple[int, int] = (1, 0)
+    explore: int = 3
     occlusion_m: float = 5.0
     transition_weight: float = 0.5
     uniform: float = 0.02
-    select_frames: int = 8
+    select_frames: int = 45
     min_height: float = 0.9
     max_distance: float = 6.0
     lost_after: float = 0.5
     depth_window: float = 0.4
+    max_recession: float = 0.5
+    bootstrap_time: float = 1.0
     smooth: float = 0.5
     cache: str | None = None
 

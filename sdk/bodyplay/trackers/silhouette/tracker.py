@@ -6,7 +6,9 @@ point G and the window (:mod:`.window`) -> distance transforms at the three leve
 (:mod:`.treefilter`) -> the MAP leaf's pose, placed at G and turned by the line of
 sight. The estimated body, dilated, keeps the background model from learning the
 player. Body size: the first ``select_frames`` frames with a person run a filter
-per body preset; the one with the smallest mean distance is kept.
+per body preset; the one with the smallest mean distance is kept (a player's
+stature read from the top of the silhouette was tried: raised arms and the first
+frame's guess make it read tall).
 
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
@@ -98,6 +100,7 @@ class SilhouetteTracker:
         self._bad = 0
         self._depths: list[tuple[float, float]] = []
         self._distance: float | None = None
+        self._started: float | None = None
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
 
     # ---- the pipeline -------------------------------------------------------------
@@ -121,15 +124,28 @@ class SilhouetteTracker:
         keep_for = self.options.depth_window
         self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
         cap = min((d for _, d in self._depths), default=None)
-        # the floor point: the lowest of what moves and what may still be the player
-        # (the first frame's guess not learned yet)
-        win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
-                      sil.region)
+        if self._distance is not None and self._last is not None:
+            # a player does not back away faster than ``max_recession`` m/s
+            far = self._distance + self.options.max_recession * (frames.t - self._last.t)
+            cap = far if cap is None else min(cap, far)
+        # the floor point: at first the lowest of what moves and of the first frame's
+        # guess of the player; once tracking, what moves, if that is a whole person
+        start = self._started is None or frames.t - self._started < self.options.bootstrap_time
+        win = None
+        if not start:
+            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
+        if (win is None or not self._plausible(win)) and sil.region is not None:
+            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
+                          sil.region)
         if win is not None:
             self._depths.append((frames.t, win.distance))
         if win is None or not self._plausible(win):
             stages["window"] = time.perf_counter() - tic
             return self._absent(frames, sil, t0, stages)
+        if self._started is None:
+            self._started = frames.t
+        off = win.ground - self._cam.center
+        self._distance = float(np.hypot(off[0], off[2]))
         maps = tuple(distance_maps(win.foreground[lv], win.unknown[lv]) for lv in range(3))
         stages["distances"] = time.perf_counter() - tic
         tic = time.perf_counter()
@@ -171,17 +187,21 @@ class SilhouetteTracker:
             steps[b] = f.step(maps)  # type: ignore[arg-type]
             self._scores[b].append(steps[b].distance)
         n = len(next(iter(self._scores.values())))
-        best = min(self._scores, key=lambda b: float(np.mean(self._scores[b])))
+        best = self._best_body()
         if n >= self.options.select_frames:
             self._body = best
             self._filters = {best: self._filters[best]}
             self._skeletons = {best: self._skeletons[best]}
         return steps[best]
 
+    def _best_body(self) -> str:
+        """The preset of smallest mean distance so far (its MAP leaf's, per frame)."""
+        return min(self._scores, key=lambda b: float(np.mean(self._scores[b] or [np.inf])))
+
     def _current_body(self) -> str:
         if self._body is not None:
             return self._body
-        return min(self._scores, key=lambda b: float(np.mean(self._scores[b] or [np.inf])))
+        return self._best_body()
 
     def _result(self, frames: FrameSet, step: FilterStep, win: ObservedWindow, sil: Silhouette,
                 t0: float) -> TrackResult:

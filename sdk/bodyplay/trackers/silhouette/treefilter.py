@@ -18,7 +18,9 @@ silhouette at 80x60, at every position of a small grid around the floor point
 (``shift_search``, the paper's global position in the state; each node keeps its
 best), its children at twice that shift and one pixel around it; only the
 children of nodes whose posterior is at least ``keep`` times the best (at most
-``max_expand`` of them) are scored at the next level, and so on; leaves of
+``max_expand`` of them), plus the ``explore`` best-fitting ones whatever their
+prior (so that a posterior stuck on a wrong pose can let go), are scored at the
+next level, and so on; leaves of
 pruned subtrees keep the likelihood of their deepest scored ancestor (piecewise
 constant, as the paper's "the subtree of that node is not searched"). The
 likelihood is eq. 6, exp(-d^2 / 2 sigma_l^2), with sigma_l a multiple of the
@@ -159,6 +161,10 @@ class TreeFilter:
             chosen = expand[keep]
             if keep.sum() > o.max_expand[lv]:
                 chosen = expand[np.argsort(post)[::-1][: o.max_expand[lv]]]
+            # the best-fitting nodes are searched whatever their prior, so that a
+            # posterior stuck on a wrong pose can let go (recovery)
+            fit = expand[np.argsort(d)[: o.explore]]
+            chosen = np.concatenate([chosen, fit[~np.isin(fit, chosen)]])
             start, end = tree.children[lv]
             where = {int(n): k for k, n in enumerate(expand)}
             kids = [np.arange(start[c], end[c]) for c in chosen]
