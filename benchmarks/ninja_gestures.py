@@ -153,10 +153,10 @@ def evaluate(script: Script, frames: Iterator[tuple[float, np.ndarray]]
     return scores, lat
 
 
-def seeds(half: str, n: int) -> list[int]:
-    """Tune seeds are even, test seeds odd."""
+def seeds(half: str, n: int, skip: int = 0) -> list[int]:
+    """Tune seeds are even, test seeds odd; ``skip`` leaves out the first ones."""
     first = 0 if half == "tune" else 1
-    return [first + 2 * i for i in range(n)]
+    return [first + 2 * i for i in range(skip, skip + n)]
 
 
 def main() -> None:
@@ -164,6 +164,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--half", choices=("tune", "test"), default="test")
     ap.add_argument("--scripts", type=int, default=3)
+    ap.add_argument("--skip", type=int, default=0, help="start after this many scripts")
     ap.add_argument("--tracker", default="colorshirt")
     ap.add_argument("--truth", action="store_true", help="skeleton joints, no camera")
     ap.add_argument("--fps", type=float, default=30.0)
@@ -176,7 +177,7 @@ def main() -> None:
     lat: dict[str, list[float]] = {g: [] for g in FIVE}
     stats: dict[str, list[float]] = {}
     t0 = time.perf_counter()
-    for seed in seeds(a.half, a.scripts):
+    for seed in seeds(a.half, a.scripts, a.skip):
         script = make_script(seed)
         frames = (frames_truth(script, a.fps) if a.truth
                   else frames_tracked(script, a.fps, a.tracker, stats))
