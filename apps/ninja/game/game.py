@@ -204,7 +204,7 @@ class NinjaGame(Game):
                 self._draw_ring(scene, ring.progress(now), ring.double, now,
                                 self._ring_from.get(k))
         self._hud(ctx, scene)
-        camera_inset(ctx, scene, 150, pos=(scene.width - 160, 40))
+        camera_inset(ctx, scene, 150, pos=(scene.width - 160, scene.height - 138))
 
     def _draw_attack(self, scene: Scene, a: Any, now: float) -> None:
         w = a.progress(now)
