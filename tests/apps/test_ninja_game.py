@@ -86,3 +86,16 @@ def test_cli_rejects_a_missing_input_naming_the_virtual_default(tmp_path, capsys
     code = main(["--input", str(tmp_path / "nope"), "--headless", "--out", str(tmp_path)])
     assert code == 2
     assert "--input virtual" in capsys.readouterr().err
+
+
+def test_silhouette_hierarchy_also_learns_the_ninja_motions(tmp_path):
+    from apps.ninja.game.training import ninja_training_clip, silhouette_options
+
+    from bodyplay.motion.clip import load_clip
+
+    opts = silhouette_options(tmp_path)
+    assert opts.hierarchy.clips[-1] == str(tmp_path / "ninja_motions.bvh")
+    assert len(opts.hierarchy.clips) > 1  # the vendored clips stay
+    clip = load_clip(str(ninja_training_clip(tmp_path)))
+    assert clip.duration > 30.0
+    assert NinjaGame().tracker_options("colorshirt") is None

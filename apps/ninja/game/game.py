@@ -113,6 +113,15 @@ class NinjaGame(Game):
                                    size=(options.width, options.height), seed=options.seed,
                                    seconds=options.seconds or 60.0)
 
+    def tracker_options(self, tracker: str) -> Any:
+        """The silhouette tracker's hierarchy also holds the ninja's five motions (as
+        the paper's game did); other trackers keep their defaults."""
+        if tracker == "silhouette":
+            from apps.ninja.game.training import silhouette_options
+
+            return silhouette_options()
+        return None
+
     def setup(self, ctx: GameContext) -> None:
         """Fresh rules seeded from the run's generator; gestures feed them."""
         self.rules = NinjaRules(self.rules_options, rng=ctx.rng)

@@ -152,6 +152,11 @@ class Game:
         """Game seconds a round should last (the progress bar's total); None: unknown."""
         return None
 
+    def tracker_options(self, tracker: str) -> Any:
+        """Options for the named tracker on image input (None: its defaults), e.g. a
+        silhouette hierarchy that also holds the game's own motions."""
+        return None
+
     def virtual_player(self, options: GameOptions) -> Any:
         """The embedded default input (``--input virtual``), made before the session:
         a pose source, or a frame source with calibrated ``cameras`` that the options'

@@ -126,7 +126,9 @@ def open_game_input(
         from bodyplay.trackers import create_tracker
 
         try:
-            tracker = create_tracker(options.tracker, cams)
+            make_opts = getattr(game, "tracker_options", None)
+            topts = make_opts(options.tracker) if callable(make_opts) else None
+            tracker = create_tracker(options.tracker, cams, topts)
         except BodyplayError:
             raise
         desc += f" + {options.tracker} tracker"
