@@ -101,13 +101,19 @@ def _fuzz(valid: Callable[[Path], bytes], read: Callable[[Path], Any], name: str
         folder = tmp_path_factory.mktemp("fuzz")
         data = valid(folder)
 
+        tried = []
+
         @settings(max_examples=examples, deadline=None, database=None,
                   suppress_health_check=list(HealthCheck))
         @given(_mutations(data))
         def inner(bad: bytes) -> None:
+            tried.append(bad)
             _check(read, folder / name, bad)
 
         inner()
+        distinct = len(set(tried))
+        print(f"fuzz {name}: {len(tried)} inputs tried, {distinct} distinct")  # -s: the counts
+        assert distinct >= 0.8 * examples  # the strategy is not starved
 
     return run
 
@@ -441,10 +447,13 @@ def test_command_line_on_damaged_input_exits_2_naming_the_file_and_writes_no_out
     if case == "import":
         _video(folder, "demo.mp4")
 
+    tried = []
+
     @settings(max_examples=FUZZ_EXAMPLES // 2, deadline=None, database=None,
               suppress_health_check=list(HealthCheck))
     @given(_mutations(data))
     def inner(bad: bytes) -> None:
+        tried.append(bad)
         p = folder / name
         p.write_bytes(bad)
         for out in ("e.jsonl", "o.jsonl"):
@@ -458,3 +467,5 @@ def test_command_line_on_damaged_input_exits_2_naming_the_file_and_writes_no_out
             assert not (folder / "e.jsonl").exists() and not (folder / "o.jsonl").exists()
 
     inner()
+    with capsys.disabled():
+        print(f"fuzz bodyplay {case}: {len(tried)} inputs tried")
