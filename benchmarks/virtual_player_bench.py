@@ -14,7 +14,8 @@ tracker's step and the tracked wrists' distance to the truth (median and worst,
 at idle and within 0.1 s of a ball's arrival). Also the pose-level source's rate.
 With ``--lookahead`` each camera count is played again with the next frame
 rendered while the current one is tracked (the end-to-end time per frame then
-counts the overlap). Nothing was tuned on these shots (the seed picks them).
+counts the overlap). ``--gaze 0.3`` lets the keeper turn its head to watch each
+ball. Nothing was tuned on these shots (the seed picks them).
 """
 
 from __future__ import annotations
@@ -31,7 +32,13 @@ from _machine import machine
 from bodyplay.body.actor import load_actor
 from bodyplay.runtime.clock import FixedClock
 from bodyplay.runtime.session import create_session
-from bodyplay.virtual import IdleMotion, ReachController, VirtualPlayerSource, VirtualPoseSource
+from bodyplay.virtual import (
+    IdleMotion,
+    ReachController,
+    ReachWeights,
+    VirtualPlayerSource,
+    VirtualPoseSource,
+)
 
 SHOT_EVERY = 1.2
 WARNING = 0.7
@@ -56,9 +63,9 @@ def _q(values: list[float]) -> str:
 
 
 def run(cameras: int, seconds: float, seed: int, track: bool, idle: IdleMotion,
-        lookahead: bool = False) -> None:
+        lookahead: bool = False, gaze: float = 0.0) -> None:
     """Render (and track) one scripted round; print the figures."""
-    keeper = ReachController(idle.skeleton, idle=idle)
+    keeper = ReachController(idle.skeleton, idle=idle, weights=ReachWeights(gaze=gaze))
     src = VirtualPlayerSource(keeper, cameras=cameras, seconds=seconds, seed=seed,
                               lookahead=lookahead)
     plan_ms, pose_ms, render_ms, step_ms = [], [], [], []
@@ -132,6 +139,8 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cameras", type=int, nargs="+", default=[1, 2])
     ap.add_argument("--no-track", action="store_true", help="render only")
+    ap.add_argument("--gaze", type=float, default=0.0,
+                    help="ReachWeights.gaze: the keeper turns its head to the ball (0: off)")
     ap.add_argument("--lookahead", action="store_true",
                     help="also play each camera count with VirtualPlayerSource(lookahead=True)")
     args = ap.parse_args()
@@ -145,9 +154,10 @@ def main() -> int:
     print(f"pose-level VirtualPoseSource + session: {n / (time.perf_counter() - t0):.0f} "
           f"samples/s")
     for cams in args.cameras:
-        run(cams, args.seconds, args.seed, not args.no_track, idle)
+        run(cams, args.seconds, args.seed, not args.no_track, idle, gaze=args.gaze)
         if args.lookahead:
-            run(cams, args.seconds, args.seed, not args.no_track, idle, lookahead=True)
+            run(cams, args.seconds, args.seed, not args.no_track, idle, lookahead=True,
+                gaze=args.gaze)
     print(f"# load average at the end {os.getloadavg()[0]:.1f}")
     return 0
 
