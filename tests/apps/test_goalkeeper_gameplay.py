@@ -100,3 +100,35 @@ def test_lost_tracking_mid_round_pauses_instead_of_letting_goals_in(
     assert not any(lost[0] <= t < lost[1] for t in resolved), s["shot_log"]
     assert s["shot_log"][1]["t"] >= lost[1]  # the ball waited for the keeper
     assert s["shots"] == 4  # and the round went on after the player came back
+
+
+def test_restart_key_starts_the_round_again(tmp_path: Any) -> None:
+    from bodyplay.app import make_game_options, run_game
+    from bodyplay.render.gl import create_context
+    from bodyplay.virtual import ReachController, VirtualPoseSource
+
+    class Window:
+        def __init__(self) -> None:
+            self.ctx = create_context(headless=True)
+            self.polls = 0
+
+        def poll(self) -> list[str]:
+            self.polls += 1
+            return ["restart"] if self.polls == 150 else []  # after two shots (5 s)
+
+        def flip(self) -> None:
+            pass
+
+        def close(self) -> None:
+            pass
+
+    ctl = ReachController()
+    game = GoalkeeperGame(GoalkeeperOptions(shots=3), controller=ctl)
+    opts = make_game_options(headless=False, realtime=False, out=tmp_path, video=False,
+                             progress=False)
+    win = Window()
+    s = run_game(game, opts, source=VirtualPoseSource(ctl, upper_body_only=True),
+                 window=win).summary
+    win.ctx.release()
+    assert s["shots"] == 3 and [e["shot"] for e in s["shot_log"]] == [0, 1, 2]
+    assert s["shot_log"][0]["kicked_t"] > 5.0  # the first shot was kicked again

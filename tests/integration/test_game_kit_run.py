@@ -143,6 +143,18 @@ class _FakeWindow:
         self.ctx.release()
 
 
+def test_pause_key_does_not_resume_a_game_paused_for_a_lost_player(tmp_path: Path) -> None:
+    game = _Counter()
+    # the player is lost from 1 s (frame 30, paused at 32); p at frame 40 changes nothing
+    win = _FakeWindow({40: "pause"})
+    opts = make_game_options(headless=False, out=tmp_path, video=False, progress=False,
+                             realtime=False)
+    res = run_game(game, opts, source=_standing(3.0, lost=(1.0, 2.0)), window=win)
+    assert [p for _, p in game.pauses] == [True, False]  # lost, found: nothing else
+    assert res.context.pause_reason == ""
+    win.close()
+
+
 def test_window_keys_pause_resume_and_quit(tmp_path: Path) -> None:
     game = _Counter()
     win = _FakeWindow({10: "pause", 20: "pause", 40: "quit"})

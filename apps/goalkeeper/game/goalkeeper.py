@@ -59,6 +59,13 @@ class GoalkeeperGame(Game):
         ctx.session.subscribe("contact", self.logic.on_contact)
         ctx.session.subscribe("pose", self.logic.trace.on_pose)
 
+    def restart(self, ctx: GameContext) -> None:
+        """The r key: take the ball off and start the round again (same shots)."""
+        b = self.rules.ball
+        if b is not None and ctx.physics is not None:
+            ctx.physics.remove(b.obj)
+        self.logic.rules = Rules.new(self.round, ctx.options.seed)
+
     def update(self, ctx: GameContext, dt: float) -> None:
         """One fixed step of the round."""
         self.logic.update(ctx, dt)

@@ -104,7 +104,6 @@ class _Loop:
         self.budget = 0.0
         self.pauses = 0
         self.paused_seconds = 0.0
-        self.user_paused = False
         self.found_once = False
         self.failures = 0
         self.errors = 0
@@ -306,11 +305,13 @@ def run_game(
                 for action in win.poll():
                     if action == "quit":
                         ctx.finish()
-                    elif action == "pause":
-                        loop.user_paused = not ctx.paused
-                        loop.set_paused(loop.user_paused, "paused")
+                    elif action == "pause":  # the key never overrides a lost player
+                        if not ctx.paused:
+                            loop.set_paused(True, "paused")
+                        elif ctx.pause_reason == "paused":
+                            loop.set_paused(False)
                     elif action == "restart":
-                        game.restart(ctx)
+                        loop._guarded("restart", game.restart, ctx)
                 if ctx.finished:
                     break
             if not loop.step():
