@@ -72,7 +72,10 @@ class GoalkeeperGame(Game):
 
     def draw(self, ctx: GameContext, scene: Scene) -> None:
         """Pitch, goal, ball, keeper, score and the camera picture."""
-        draw_pitch(scene, self.round.goal)
+        if getattr(self, "_pitch", None) is None:  # static scenery: built once
+            self._pitch = Scene(scene.width, scene.height)
+            draw_pitch(self._pitch, self.round.goal)
+        scene.extend(self._pitch)
         draw_ball(scene, self.rules)
         super().draw(ctx, scene)
         draw_hud(ctx, scene, self.rules)

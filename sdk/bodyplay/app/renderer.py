@@ -544,7 +544,7 @@ class SceneRenderer:
         make_current(self.ctx)
         self._fbo.read_into(self._rgb, components=3, alignment=1)
         img = np.frombuffer(self._rgb, np.uint8).reshape(self.height, self.width, 3)
-        return np.ascontiguousarray(img[::-1])
+        return np.ascontiguousarray(img[::-1])  # GL rows run bottom-up
 
     def present(self, image: NDArray[np.uint8]) -> None:
         """Show an (H, W, 3) RGB picture (from :meth:`render`) on the context's screen

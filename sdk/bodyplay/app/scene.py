@@ -43,22 +43,31 @@ _REST_FROM_PELVIS: dict[str, tuple[float, float, float]] = {
     "spine": (0.0, 0.16, 0.0), "chest": (0.0, 0.33, 0.0), "neck": (0.0, 0.49, 0.0),
     "head": (0.0, 0.62, 0.0),
 }
-_BONE_IDX = np.array([[JOINT_INDEX[a], JOINT_INDEX[b]] for a, b in BONES], dtype=np.intp)
+_BONES_LIST = [(JOINT_INDEX[a], JOINT_INDEX[b]) for a, b in BONES]
 
 
 def _color(c: ArrayLike, what: str = "color") -> Color:
-    v = np.asarray(c, dtype=np.float64).reshape(-1)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ConfigError(f"{what} must be three RGB floats in 0..1, got {c!r}")
-    v = np.clip(v, 0.0, 1.0)
-    return float(v[0]), float(v[1]), float(v[2])
+    """Three floats clipped to 0..1 (plain Python: scenes add thousands a second)."""
+    try:
+        r, g, b = (float(x) for x in c)  # type: ignore[union-attr, arg-type]
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be three RGB floats in 0..1, got {c!r}") from None
+    if not (math.isfinite(r) and math.isfinite(g) and math.isfinite(b)):
+        raise ConfigError(f"{what} must be three finite RGB floats, got {c!r}")
+    return (min(max(r, 0.0), 1.0), min(max(g, 0.0), 1.0), min(max(b, 0.0), 1.0))
 
 
-def _point(p: ArrayLike, what: str) -> NDArray[np.float64]:
-    v = np.asarray(p, dtype=np.float64).reshape(-1)
-    if v.shape != (3,):
-        raise ConfigError(f"{what} must be a 3-D point (x, y, z) in metres, got {p!r}")
-    return v
+def _point(p: ArrayLike, what: str) -> tuple[float, float, float]:
+    """A 3-D point as three floats (NaN allowed: lost things are skipped by callers)."""
+    try:
+        x, y, z = (float(v) for v in p)  # type: ignore[union-attr, arg-type]
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be a 3-D point (x, y, z) in metres, got {p!r}") from None
+    return x, y, z
+
+
+def _finite(p: tuple[float, float, float]) -> bool:
+    return math.isfinite(p[0]) and math.isfinite(p[1]) and math.isfinite(p[2])
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,6 +131,24 @@ class Scene:
     floor_spec: tuple[Color, Color, float, float] | None = None
 
     # ---- camera ----------------------------------------------------------------------
+    def extend(self, other: Scene) -> None:
+        """Add everything ``other`` holds (its camera and floor too, when this scene has
+        none): build a game's static scenery once and add it every frame."""
+        self.spheres.extend(other.spheres)
+        self.boxes.extend(other.boxes)
+        self.capsules.extend(other.capsules)
+        self.lines.extend(other.lines)
+        self.shadows.extend(other.shadows)
+        self.meshes.extend(other.meshes)
+        self.texts.extend(other.texts)
+        self.insets.extend(other.insets)
+        if self.floor_spec is None:
+            self.floor_spec = other.floor_spec
+        if self.camera is None:
+            self.camera = other.camera
+            self.mirror = other.mirror
+            self.sky = other.sky
+
     def look(
         self,
         eye: ArrayLike,
@@ -143,9 +170,9 @@ class Scene:
     ) -> None:
         """A sphere of ``radius`` m at ``center``; ``shadow`` adds a blob shadow under it."""
         c = _point(center, "sphere center")
-        if not np.all(np.isfinite(c)) or not radius > 0:
+        if not _finite(c) or not radius > 0:
             return  # a lost or degenerate object is simply not drawn
-        self.spheres.append((*c.tolist(), float(radius), *_color(color)))
+        self.spheres.append((*c, float(radius), *_color(color)))
         if shadow:
             self.shadow(c, radius * 1.2)
 
@@ -157,26 +184,26 @@ class Scene:
         radians about the vertical axis."""
         c = _point(center, "box center")
         s = _point(size, "box size")
-        if not (np.all(np.isfinite(c)) and np.all(s > 0)):
+        if not (_finite(c) and min(s) > 0):
             return
-        self.boxes.append((*c.tolist(), *s.tolist(), float(yaw), *_color(color)))
+        self.boxes.append((*c, *s, float(yaw), *_color(color)))
 
     def capsule(
         self, a: ArrayLike, b: ArrayLike, radius: float, color: ArrayLike = (0.8, 0.8, 0.8)
     ) -> None:
         """A capsule (cylinder with round ends) of ``radius`` m from ``a`` to ``b``."""
         pa, pb = _point(a, "capsule end a"), _point(b, "capsule end b")
-        if not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))) or not radius > 0:
+        if not (_finite(pa) and _finite(pb)) or not radius > 0:
             return
-        self.capsules.append((*pa.tolist(), *pb.tolist(), float(radius), *_color(color)))
+        self.capsules.append((*pa, *pb, float(radius), *_color(color)))
 
     def line(self, a: ArrayLike, b: ArrayLike, color: ArrayLike = (1, 1, 1)) -> None:
         """A one-pixel unlit line from ``a`` to ``b`` (nets, guides; far cheaper than
         a capsule: use :meth:`capsule` for rods that must look round)."""
         pa, pb = _point(a, "line end a"), _point(b, "line end b")
-        if not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))):
+        if not (_finite(pa) and _finite(pb)):
             return
-        self.lines.append((*pa.tolist(), *pb.tolist(), *_color(color)))
+        self.lines.append((*pa, *pb, *_color(color)))
 
     def floor(
         self,
@@ -197,12 +224,11 @@ class Scene:
         """A soft dark disc on the floor under ``center`` (its x, z); it fades as
         the object rises (``strength`` at the floor, 0..1)."""
         c = _point(center, "shadow center")
-        if not np.all(np.isfinite(c)) or not radius > 0:
+        if not _finite(c) or not radius > 0:
             return
-        height = max(float(c[1]), 0.0)
+        height = max(c[1], 0.0)
         fade = float(strength) / (1.0 + 0.6 * height)
-        self.shadows.append((float(c[0]), float(c[2]), float(radius) * (1.0 + 0.15 * height),
-                             fade))
+        self.shadows.append((c[0], c[2], float(radius) * (1.0 + 0.15 * height), fade))
 
     def mesh(
         self,
@@ -251,43 +277,47 @@ class Scene:
         j = np.array(joints, dtype=np.float64, copy=True)
         if j.shape != (NUM_JOINTS, 3):
             raise ConfigError(f"avatar joints must have shape ({NUM_JOINTS}, 3), got {j.shape}")
+        finite = np.asarray(np.isfinite(j).all(axis=1), dtype=bool)
         st = list(state) if state is not None else [
-            "tracked" if np.all(np.isfinite(p)) else "lost" for p in j
+            "tracked" if ok else "lost" for ok in finite.tolist()
         ]
         if len(st) != NUM_JOINTS:
             raise ConfigError(f"avatar state needs {NUM_JOINTS} entries, got {len(st)}")
-        lost = np.array([s == "lost" or not np.all(np.isfinite(j[i])) for i, s in enumerate(st)])
+        lost = np.array([s == "lost" for s in st]) | ~finite
         if last_seen is not None:
             ls = np.asarray(last_seen, dtype=np.float64)
-            fill = lost & np.all(np.isfinite(ls), axis=1)
+            fill = lost & np.isfinite(ls).all(axis=1)
             j[fill] = ls[fill]
         pelvis = j[JOINT_INDEX["pelvis"]]
-        if np.all(np.isfinite(pelvis)):
+        has_pelvis = bool(np.isfinite(pelvis).all())
+        if has_pelvis:
+            missing = np.asarray(~np.isfinite(j).all(axis=1), dtype=bool)
             for name, off in _REST_FROM_PELVIS.items():
                 i = JOINT_INDEX[name]
-                if not np.all(np.isfinite(j[i])):
+                if missing[i]:
                     j[i] = pelvis + np.asarray(off)
-        col = np.asarray(_color(color))
-        pale = col + _INFERRED_TINT * (1.0 - col)
+        col = _color(color)
+        pale = _color([c + _INFERRED_TINT * (1.0 - c) for c in col])
         lcol = _color(lost_color, "lost_color")
-        inferred = np.array([s == "inferred" for s in st])
-        for a, b in _BONE_IDX:
-            if lost[a] or lost[b]:
-                self.capsule(j[a], j[b], radius * 0.55, lcol)
+        inferred = [s == "inferred" for s in st]
+        lost_l = lost.tolist()
+        pts = j.tolist()
+        for a, b in _BONES_LIST:
+            if lost_l[a] or lost_l[b]:
+                self.capsule(pts[a], pts[b], radius * 0.55, lcol)
             else:
                 c = pale if (inferred[a] or inferred[b]) else col
-                self.capsule(j[a], j[b], radius, c)
+                self.capsule(pts[a], pts[b], radius, c)
         head = JOINT_INDEX["head"]
-        if np.all(np.isfinite(j[head])):
-            if lost[head]:
-                self.sphere(j[head], 0.09, lcol)
-            else:
-                self.sphere(j[head], 0.11, pale if inferred[head] else col)
+        if lost_l[head]:
+            self.sphere(pts[head], 0.09, lcol)
+        else:
+            self.sphere(pts[head], 0.11, pale if inferred[head] else col)
         for name in ("l_wrist", "r_wrist"):
             i = JOINT_INDEX[name]
-            if not lost[i]:
-                self.sphere(j[i], radius * 1.5, pale if inferred[i] else col)
-        if shadow and np.all(np.isfinite(pelvis)):
+            if not lost_l[i]:
+                self.sphere(pts[i], radius * 1.5, pale if inferred[i] else col)
+        if shadow and has_pelvis:
             self.shadow((pelvis[0], 0.0, pelvis[2]), 0.35, 0.5)
 
     # ---- HUD -------------------------------------------------------------------------

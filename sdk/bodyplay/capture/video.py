@@ -52,7 +52,7 @@ class VideoWriter:
             self._size = size
         elif size != self._size:
             raise CaptureError(f"{self.path}: frame size {size} differs from {self._size}")
-        self._writer.write(np.ascontiguousarray(rgb[:, :, ::-1]))
+        self._writer.write(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))  # faster than [..., ::-1]
         self.frames += 1
 
     def close(self) -> None:
