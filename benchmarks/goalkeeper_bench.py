@@ -84,10 +84,12 @@ def end_to_end(shots: int) -> None:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="fewer rounds and shots")
+    p.add_argument("--game-only", action="store_true", help="skip the end-to-end part")
     args = p.parse_args()
     print(f"{machine()}; {dt.date.today()}; load {os.getloadavg()[0]:.1f}")
     game_only(rounds=2 if args.quick else 5, shots=4 if args.quick else 10)
-    end_to_end(shots=3 if args.quick else 6)
+    if not args.game_only:
+        end_to_end(shots=3 if args.quick else 6)
     print(f"load at the end {os.getloadavg()[0]:.1f}")
     return 0
 
