@@ -100,10 +100,21 @@ def test_streaming_writer_flushes_each_record_and_rejects_going_back(tmp_path: P
     path = tmp_path / "p.jsonl"
     with PoseJsonlWriter(path) as writer:
         writer.write(record(0, ms=3.0))
-        assert read_pose_jsonl(path).frames.tolist() == [0]  # readable mid-session
+        assert read_pose_jsonl(writer.partial).frames.tolist() == [0]  # readable mid-session
+        assert not path.exists()  # not under the final name until complete
         with pytest.raises(CaptureError, match="after frame 0"):
             writer.write(record(0))
-    assert len(read_pose_jsonl(path)) == 1
+    assert len(read_pose_jsonl(path)) == 1 and not writer.partial.exists()
+
+
+def test_streaming_writer_stopped_by_an_error_leaves_only_the_partial_file(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "p.jsonl"
+    with pytest.raises(RuntimeError), PoseJsonlWriter(path) as writer:
+        writer.write(record(0))
+        raise RuntimeError("the tracker failed")
+    assert not path.exists() and len(read_pose_jsonl(writer.partial)) == 1
 
 
 def test_missing_file_is_a_capture_error(tmp_path: Path) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -277,13 +278,16 @@ def write_pose_jsonl(
 class PoseJsonlWriter:
     """Append records to a poses/truth JSON-lines file one frame at a time.
 
-    Each line is flushed when written, so a crashed session leaves a file that
-    :func:`read_pose_jsonl` still reads. Frames must increase.
+    Lines go to ``<name>.partial`` (flushed each, so a crashed run leaves a file that
+    :func:`read_pose_jsonl` still reads, under a name that says it is incomplete), renamed
+    to ``path`` by :meth:`close`; a ``with`` block that ends in an error leaves only the
+    ``.partial`` file, never a partial output under the final name. Frames must increase.
     """
 
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
-        self._fh: IO[str] | None = self.path.open("w")
+        self.partial = self.path.with_name(self.path.name + ".partial")
+        self._fh: IO[str] | None = self.partial.open("w")
         self._last: int | None = None
 
     def write(self, record: Mapping[str, Any]) -> None:
@@ -297,11 +301,13 @@ class PoseJsonlWriter:
         self._fh.write(json.dumps(dict(record), separators=(",", ":")) + "\n")
         self._fh.flush()
 
-    def close(self) -> None:
-        """Close the file."""
+    def close(self, complete: bool = True) -> None:
+        """Close the file; ``complete`` renames it to its final name."""
         if self._fh is not None:
             self._fh.close()
             self._fh = None
+            if complete:
+                os.replace(self.partial, self.path)
 
     def __enter__(self) -> Self:
         return self
@@ -312,4 +318,4 @@ class PoseJsonlWriter:
         exc: BaseException | None,
         tb: TracebackType | None,
     ) -> None:
-        self.close()
+        self.close(complete=exc_type is None)
