@@ -198,8 +198,9 @@ class Cloth:
     def step(self, dt: float, joints: ArrayLike | None) -> ClothStep:
         """Advance by ``dt`` seconds with the body at ``joints`` (17, 3) (None: lost).
 
-        The first pose with the torso and hips known dresses the body (see
-        ClothOptions.dress_seconds); before it the cloth does not move.
+        The first pose whose torso (pelvis, neck, shoulders) is known dresses the body
+        (see ClothOptions.dress_seconds); before it the cloth does not move. Lost
+        joints, glitches and jumps are handled as ClothOptions describes.
         """
         t0 = time.perf_counter()
         if not (isinstance(dt, int | float) and not isinstance(dt, bool)
