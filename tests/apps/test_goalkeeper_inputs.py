@@ -49,3 +49,22 @@ def test_a_mocap_clip_as_pose_input_plays_a_round(tmp_path: Path) -> None:
     assert s["frames"] > 100 and s["tracking_share"] == 1.0
     assert s["shots"] == 2 and s["game_seconds"] <= 5.0
     assert (tmp_path / "goalkeeper_hands.png").exists()
+
+
+def test_a_recording_plays_a_round(tmp_path: Path) -> None:
+    from bodyplay.record import record_session
+    from bodyplay.runtime import ClipPoseSource, FixedClock, create_session
+
+    src = ClipPoseSource("13_29", fps=30.0, upper_body_only=True)
+    session = create_session(source=src, clock=FixedClock(1 / 30))
+    rec = record_session(session, tmp_path / "keeper.jsonl")
+    session.run(max_frames=200)
+    rec.close()
+    session.close()
+    out = tmp_path / "out"
+    run_game(GoalkeeperGame(GoalkeeperOptions(shots=2)),
+             make_game_options(input=str(tmp_path / "keeper.jsonl"), headless=True, out=out,
+                               video=False, progress=False))
+    s = json.loads((out / "summary.json").read_text())
+    assert s["input"].startswith("recording") and 100 < s["frames"] <= 200
+    assert s["shots"] == 2 and s["tracking_share"] == 1.0
