@@ -18,7 +18,7 @@ def test_default_headless_run_wins_a_whole_fight_with_every_motion_recognized_in
     assert code == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     assert (tmp_path / "ninja.mp4").stat().st_size > 50_000
-    assert f"{default_tracker()} tracker" in s["input"]
+    assert f"{default_tracker()} tracker" in s["input"]  # colorshirt: see docs/ninja.md
     assert s["result"] == "won" and s["health"]["opponent"] == 0
     kinds = {a["kind"] for a in s["attacks"] if a["outcome"] != "pending"}
     assert kinds == {"high", "sweep"}
