@@ -46,6 +46,8 @@ import ast
 import datetime
 import hashlib
 import json
+import os
+import shutil
 import sys
 import time
 from collections.abc import Callable
@@ -230,8 +232,7 @@ def make_room(kind: str, seed: int, size: tuple[int, int] = (1280, 960)) -> NDAr
     elif kind != "plain":
         raise ValueError(f"unknown room {kind!r}")
     img += rng.normal(0, 4, img.shape).astype(np.float32)  # texture
-    img = cv2.GaussianBlur(img, (3, 3), 0)
-    return np.clip(img, 0, 255).astype(np.uint8)
+    return np.clip(cv2.GaussianBlur(img, (3, 3), 0), 0, 255).astype(np.uint8)
 
 
 def room_path(work: Path, room: str) -> str:
@@ -300,10 +301,15 @@ def capture(work: Path, clip: Clip, lighting: str, index: int, seconds: float,
     options = make_synthetic_camera_options(cameras=2, background=room_path(work, room),
                                             lighting=lighting, body=body, seed=index)
     cam = SyntheticCamera(options, part, actor=actor, duration=lead_in + part.duration)
+    tmp = out.with_name(f"{out.name}.tmp{os.getpid()}")  # another run may render it too
     with cam:
-        write_capture(out, cam, cam.from_clip(lead_in=lead_in),
+        write_capture(tmp, cam, cam.from_clip(lead_in=lead_in),
                       run={"clip": clip.name, "start": start, "seconds": seconds,
                            "lead_in": lead_in, "travel": clip.travel})
+    try:
+        tmp.rename(out)
+    except OSError:
+        shutil.rmtree(tmp)
     return out
 
 
@@ -442,12 +448,14 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     dbs: dict[str, PoseDatabase] = {}
     rows = []
-    for i, clip in enumerate(clips):
-        if args.half != "all" and half_of(clip, clips) != args.half:
-            continue
-        if chosen is not None and clip.name not in chosen:
-            continue
-        for s in settings:
+    order = list(enumerate(clips))
+    if args.clips:  # in the order given
+        order.sort(key=lambda ic: args.clips.split(",").index(ic[1].name)
+                   if ic[1].name in chosen else -1)  # type: ignore[operator]
+    picked = [(i, c) for i, c in order if (args.half == "all" or half_of(c, clips) == args.half)
+              and (chosen is None or c.name in chosen)]
+    for s in settings:  # setting by setting: an interrupted run has whole settings
+        for i, clip in picked:
             key = (tag, clip.name, s.name, args.seconds)
             if key in done:
                 rows.append(done[key])

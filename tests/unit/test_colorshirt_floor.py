@@ -7,6 +7,7 @@ import pytest
 
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.trackers.colorshirt.cues import head_height
+from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 from bodyplay.trackers.colorshirt.floor import (
     BackgroundPlate,
     FeetPoint,
@@ -220,81 +221,79 @@ def _depth_rig() -> Camera:
     return Camera.from_fov("cam0", 640, 480, 60.0, R, t)
 
 
-def _depth_of(cam: Camera, root: np.ndarray) -> float:
-    return float(cam.world_to_camera(root)[2])
+def _filter(cam: Camera, depth: float) -> RootDepthFilter:
+    f = RootDepthFilter(accel=3.0, floor_std=0.05)
+    assert f.begin((cam,), 0, 0.0, depth) is not None
+    return f
 
 
-def test_depth_track_holds_the_depth_the_feet_told_while_they_are_unseen() -> None:
-    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
-    from bodyplay.trackers.colorshirt.ik import RootPrior
-
+def test_depth_filter_holds_the_depth_with_a_growing_uncertainty_while_the_feet_are_unseen(
+) -> None:
     cam = _depth_rig()
-    track = RootDepthTrack(speed=0.25)
-    assert track.prior((cam,), 0, 0.0) is None  # nothing seen yet
-    root = np.array([0.0, 0.95, 0.2])
-    depth = _depth_of(cam, root)
-    floor = RootPrior.camera_depth(cam, depth, 0.05)
-    track.update((cam,), 0, 0.0, root, (floor,), None)
-    held = track.prior((cam,), 0, 0.1)
+    f = RootDepthFilter()
+    assert f.begin((cam,), 0, 0.0, None) is None  # nothing known yet
+    f = _filter(cam, 3.0)
+    std0 = f.std()
+    held = f.begin((cam,), 0, 0.1, None)
+    assert held is not None and held.target + cam.t[2] == pytest.approx(3.0)
+    later = f.begin((cam,), 0, 0.5, None)
+    assert later is not None and std0 is not None and later.std > held.std > std0
+    assert f.begin((cam,), 0, 2.0, None) is None  # lapsed after the horizon
+
+
+def test_depth_filter_leaves_out_a_floor_reading_of_feet_in_the_air() -> None:
+    cam = _depth_rig()
+    f = _filter(cam, 3.0)
+    for k in range(1, 10):  # standing: the readings agree
+        f.begin((cam,), 0, k / 30, 3.0)
+        assert not f.rejected
+    # a foot 18 cm up reads about half a metre too far
+    prior = f.begin((cam,), 0, 10 / 30, 3.5)
+    assert f.rejected and prior is not None
+    assert prior.target + cam.t[2] == pytest.approx(3.0, abs=0.02)
+
+
+def test_depth_filter_follows_a_player_walking_towards_the_camera() -> None:
+    cam = _depth_rig()
+    f = _filter(cam, 3.5)
+    speed = 0.8  # m/s
+    for k in range(1, 60):
+        t = k / 30
+        prior = f.begin((cam,), 0, t, 3.5 - speed * t)
+        assert not f.rejected
+    assert prior is not None
+    assert prior.target + cam.t[2] == pytest.approx(3.5 - speed * 59 / 30, abs=0.03)
+    held = f.begin((cam,), 0, 2.1, None)  # feet lost: it goes on walking
     assert held is not None
-    assert held.target + cam.t[2] == pytest.approx(depth)
-    assert held.std == pytest.approx(np.hypot(0.05, 0.25 * 0.1))
-    later = track.prior((cam,), 0, 0.5)
-    assert later is not None and later.std > held.std  # it loosens with time
-    assert track.prior((cam,), 0, 1.5) is None  # and lapses after the horizon
+    assert held.target + cam.t[2] == pytest.approx(3.5 - speed * 2.1, abs=0.05)
 
 
-def test_depth_track_fuses_the_reading_with_the_held_depth() -> None:
-    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
-    from bodyplay.trackers.colorshirt.ik import RootPrior
-
+def test_depth_filter_restarts_from_the_feet_when_they_keep_disagreeing() -> None:
     cam = _depth_rig()
-    track = RootDepthTrack(speed=0.25)
-    root = np.array([0.0, 0.95, 0.2])
-    floor = RootPrior.camera_depth(cam, _depth_of(cam, root), 0.05)
-    track.update((cam,), 0, 0.0, root, (floor,), None)
-    held = track.prior((cam,), 0, 1 / 30)
-    assert held is not None
-    track.update((cam,), 0, 1 / 30, root, (floor,), held)
-    again = track.prior((cam,), 0, 1 / 30)
-    assert again is not None
-    assert again.std == pytest.approx(1.0 / np.sqrt(1 / 0.05**2 + 1 / held.std**2))
+    f = _filter(cam, 3.0)
+    for k in range(1, 40):
+        prior = f.begin((cam,), 0, k / 30, 2.2)
+    assert prior is not None and prior.target + cam.t[2] == pytest.approx(2.2, abs=0.05)
 
 
-def test_depth_track_without_a_reading_keeps_the_uncertainty_it_had() -> None:
-    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
-    from bodyplay.trackers.colorshirt.ik import RootPrior
-
+def test_depth_filter_carries_the_fitted_depth_without_growing_sure_of_it() -> None:
     cam = _depth_rig()
-    track = RootDepthTrack(speed=0.25)
-    root = np.array([0.0, 0.95, 0.2])
-    track.update((cam,), 0, 0.0, root, (), None)
-    assert track.prior((cam,), 0, 0.1) is None  # never a reading: nothing to hold
-    track.update((cam,), 0, 0.0, root, (RootPrior.camera_depth(cam, 3.0, 0.05),), None)
-    held = track.prior((cam,), 0, 0.2)
-    assert held is not None
-    moved = root + np.array([0.0, 0.0, 0.3])
-    track.update((cam,), 0, 0.2, moved, (), held)  # the feet out of view
-    after = track.prior((cam,), 0, 0.2)
-    assert after is not None and after.std == pytest.approx(held.std)
-    assert after.target + cam.t[2] == pytest.approx(_depth_of(cam, moved))
+    f = RootDepthFilter()
+    f.begin((cam,), 0, 0.0, None)
+    f.end(3.0)  # no floor reading yet: the shirt alone, nothing to hold
+    assert f.depth() is None
+    f = _filter(cam, 3.0)
+    std = f.std()
+    f.end(3.2)  # the fit (feet and shirt) put the root here
+    assert f.depth() == pytest.approx(3.2) and f.std() == std
 
 
-def test_depth_track_ends_when_two_cameras_or_another_camera_see_the_shirt() -> None:
-    from bodyplay.trackers.colorshirt.cues import RootDepthTrack
-    from bodyplay.trackers.colorshirt.ik import RootPrior
-
+def test_depth_filter_stops_when_two_cameras_see_the_shirt() -> None:
     cam = _depth_rig()
-    root = np.array([0.0, 0.95, 0.2])
-    floor = RootPrior.camera_depth(cam, _depth_of(cam, root), 0.05)
-    track = RootDepthTrack(speed=0.25)
-    track.update((cam, cam), 0, 0.0, root, (floor,), None)
-    assert track.prior((cam, cam), 1, 0.1) is None  # another camera: its own depth
-    track.update((cam, cam), None, 0.1, root, (), None)
-    assert track.prior((cam, cam), 0, 0.2) is None  # two cameras triangulate
-    off = RootDepthTrack(speed=0.0)
-    off.update((cam,), 0, 0.0, root, (floor,), None)
-    assert off.prior((cam,), 0, 0.1) is None
+    f = _filter(cam, 3.0)
+    assert f.begin((cam, cam), None, 0.1, None) is None
+    assert f.std() is None
+    assert f.begin((cam, cam), 1, 0.2, None) is None  # another camera starts afresh
 
 
 def test_a_foot_split_by_the_threshold_still_reaches_down_to_its_toes() -> None:

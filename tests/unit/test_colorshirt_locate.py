@@ -124,3 +124,31 @@ def test_search_falls_back_to_the_whole_frame_when_the_shirt_left_the_region() -
     loc = ShirtLocator().locate(img, region=(0, 0, 200, 200))
     assert loc.found
     assert abs(loc.x - 480) < 25 and abs(loc.y - 325) < 25
+
+
+def test_locator_centres_on_one_of_two_shirts_not_between_them() -> None:
+    rng = np.random.default_rng(12)
+    img = clutter(480, 640, rng)
+    paint_shirt(img, 40, 60, 30, rng)  # a colorful poster as busy as the shirt
+    paint_shirt(img, 460, 250, 30, rng)
+    loc = ShirtLocator().locate(img)
+    near = [abs(loc.x - (x + 60)) < 25 and abs(loc.y - (y + 75)) < 25
+            for x, y in ((40, 60), (460, 250))]
+    assert any(near)  # the weighted average stays with the best window's region
+
+
+def test_background_mask_tells_whether_a_box_moved() -> None:
+    rng = np.random.default_rng(13)
+    room = clutter(240, 320, rng)
+    bg = BackgroundMask(warmup=3)
+    box = (100, 60, 180, 160)
+    assert bg.moving(box) is None  # nothing seen yet
+    for _ in range(6):
+        bg.apply(room)
+    still = bg.moving(box)
+    assert still is not None and still < 0.01
+    moved = room.copy()
+    paint_shirt(moved, 110, 70, 12, rng)
+    bg.apply(moved)
+    now = bg.moving(box)
+    assert now is not None and now > 0.2

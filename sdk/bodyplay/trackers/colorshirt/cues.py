@@ -5,9 +5,8 @@ empty-room frames the plate learns from; without them they are simply absent.
 
 * :func:`floor_root_priors`: with one camera, where the feet meet the floor fixes
   the root's depth (:mod:`.floor`).
-* :class:`RootDepthTrack`: with one camera, the reported root's depth carried to
-  the next frame as one more prior (loosening with time), so that frames whose
-  feet are out of view do not drift with the shirt's apparent size.
+* the reading is combined over time with the shirt's size by
+  :class:`.depth.RootDepthFilter`.
 * :func:`head_anchors`: in every camera, the head found above the collar
   (:mod:`.head`) becomes a 2-D constraint on the head joint in the IK, which the
   shirt's patches leave to the database blend.
@@ -34,7 +33,7 @@ from bodyplay.trackers.colorshirt.ik import PatchAnchors, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraState, CameraView
 
-__all__ = ["HEAD_PATCH", "FloorReading", "RootDepthTrack", "floor_root_priors", "head_anchors",
+__all__ = ["HEAD_PATCH", "FloorReading", "floor_root_priors", "head_anchors",
            "head_from_cue", "head_height", "join_anchors", "within_reach"]
 
 HEAD_PATCH = NUM_PATCHES + 1
@@ -64,60 +63,8 @@ class FloorReading:
 
     priors: tuple[RootPrior, ...] = ()
     stagger: float | None = None
-
-
-@dataclass
-class RootDepthTrack:
-    """The root's depth along a lone camera's axis, carried from frame to frame.
-
-    Each reported pose's fitted root depth is remembered, with the std of the
-    depth evidence it was fitted with: the floor reading's and the carried
-    prior's, fused as Gaussians (the shirt's own evidence is not counted, so the
-    track is never more confident than the feet made it). On the next frame that
-    depth, loosened by ``speed`` (m/s) times the time elapsed (the predict step of
-    a random walk), is one more :class:`RootPrior` of the fit. Where the feet are
-    out of view (a lunge towards the camera puts them below the image; a light
-    change hides them from the plate) the depth no longer drifts with the shirt's
-    apparent size (the validation slash clip's root drifted 60 cm towards the
-    camera in 20 such frames); where they are seen, one frame's misread foot
-    moves the depth less. Beyond the paper.
-
-    The track ends when two cameras see the shirt or another camera takes over,
-    and lapses after ``horizon`` seconds without a reported pose.
-    """
-
-    speed: float
-    horizon: float = 1.0
-    camera: int | None = None
-    t: float = float("nan")
-    depth: float = float("nan")
-    std: float = float("nan")
-
-    def prior(self, cameras: Sequence[Camera], index: int, t: float) -> RootPrior | None:
-        """The held root depth in camera ``index`` at time ``t`` (None: nothing held)."""
-        if self.camera != index or not t - self.t <= self.horizon:
-            return None
-        std = float(np.hypot(self.std, self.speed * (t - self.t)))
-        return RootPrior.camera_depth(cameras[index], self.depth, std)
-
-    def update(self, cameras: Sequence[Camera], index: int | None, t: float,
-               root: NDArray[np.float64], measured: tuple[RootPrior, ...],
-               predicted: RootPrior | None) -> None:
-        """A pose with root ``root`` was reported at ``t``, fitted with the floor
-        priors ``measured`` and this track's ``predicted`` prior; ``index`` is the
-        lone camera (None: two or more cameras saw the shirt, which ends the track)."""
-        if index is None or self.speed <= 0:
-            self.camera = None
-            return
-        info = sum(1.0 / p.std**2 for p in measured)
-        if predicted is not None:
-            info += 1.0 / predicted.std**2
-        if info <= 0.0:
-            self.camera = None  # no floor reading yet: nothing to hold on to
-            return
-        self.camera, self.t = index, t
-        self.depth = float(cameras[index].world_to_camera(root)[2])
-        self.std = float(1.0 / np.sqrt(info))
+    depth: float | None = None
+    """The root's depth the feet tell (m along the lone camera's axis; None: none)."""
 
 
 def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
@@ -155,9 +102,9 @@ def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
               if (z := floor_depth(cam, f)) is not None]
     if not depths:
         return FloorReading()
-    prior = RootPrior.camera_depth(cam, float(np.mean(depths)) + options.floor_offset,
-                                   options.floor_std)
-    return FloorReading((prior,), max(depths) - min(depths) if len(depths) > 1 else None)
+    depth = float(np.mean(depths)) + options.floor_offset
+    prior = RootPrior.camera_depth(cam, depth, options.floor_std)
+    return FloorReading((prior,), max(depths) - min(depths) if len(depths) > 1 else None, depth)
 
 
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],

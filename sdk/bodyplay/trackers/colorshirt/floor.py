@@ -274,10 +274,19 @@ class FloorWatch:
         if self._small is not None and not self.seen_shirt:
             self.plate.learn(self._small)
 
-    def shirt_at(self, shirt: Box) -> None:
-        """The shirt's box (full-resolution px) in this frame; the plate moves on around it."""
-        self.seen_shirt = True
+    def shirt_at(self, shirt: Box, confirmed: bool = True) -> None:
+        """The shirt's box (full-resolution px) in this frame; the plate moves on around it.
+
+        ``confirmed``: whether the tracker has reported a pose yet. Until it has,
+        a shirt-like region may be clutter of the room (clothes or a poster in
+        shirt colors), and the plate goes on learning the whole frame.
+        """
         self._shirt = shirt
+        if not confirmed and not self.seen_shirt:
+            if self._small is not None:
+                self.plate.learn(self._small)
+            return
+        self.seen_shirt = True
         if self._small is not None:
             self.plate.update_around(self._small, self._region_small())
 

@@ -230,6 +230,12 @@ class ShirtLocator:
         if u_max <= 0.0:
             return ShirtLocation(image.shape[1] / 2, image.shape[0] / 2, 0.0, 0.0, False)
         sigma = 0.1 * u_max
+        # the best window: the average is taken over the windows overlapping it only,
+        # so that a second colorful region elsewhere (a poster, a fruit bowl, clothes
+        # on a rail) cannot pull the centre between the two
+        bs, bu = max(((s, u) for s, u in maps if u.size), key=lambda m: float(m[1].max()))
+        by, bx = np.unravel_index(int(np.argmax(bu)), bu.shape)
+        best_c = ((bx + 0.5 * bs) * o.stride, (by + 0.5 * bs) * o.stride)
         wsum = 0.0
         acc = np.zeros(3)
         for s, u in maps:
@@ -237,10 +243,13 @@ class ShirtLocator:
                 continue
             w = np.exp(-(((u.astype(np.float64) - u_max) / sigma) ** 2))
             w[u <= 0] = 0.0
+            ys, xs = np.indices(u.shape)
+            reach = 0.5 * (s + bs) * o.stride
+            w[(np.abs((xs + 0.5 * s) * o.stride - best_c[0]) > reach)
+              | (np.abs((ys + 0.5 * s) * o.stride - best_c[1]) > reach)] = 0.0
             tot = float(w.sum())
             if tot < 1e-12:
                 continue
-            ys, xs = np.indices(u.shape)
             cx = ((xs + 0.5 * s) * o.stride * w).sum()
             cy = ((ys + 0.5 * s) * o.stride * w).sum()
             acc += (cx, cy, s * o.stride * tot)
@@ -272,6 +281,22 @@ class BackgroundMask:
             history=self.history, varThreshold=16, detectShadows=False
         )
         self._frames = 0
+        self.raw: NDArray[np.bool_] | None = None
+        """The last frame's undilated foreground at the model's resolution (None
+        during the warm-up), also when :meth:`apply` returned None."""
+
+    def moving(self, box: tuple[int, int, int, int]) -> float | None:
+        """Share of the last frame's pixels inside ``box`` (full-resolution px) that
+        the model saw change (None during the warm-up or for an empty box)."""
+        if self.raw is None:
+            return None
+        d = self.downscale
+        h, w = self.raw.shape
+        x0, y0 = max(box[0] // d, 0), max(box[1] // d, 0)
+        x1, y1 = min(-(-box[2] // d), w), min(-(-box[3] // d), h)
+        if x1 <= x0 or y1 <= y0:
+            return None
+        return float(self.raw[y0:y1, x0:x1].mean())
 
     def reduce(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
         """``image`` at the model's resolution (what :meth:`apply` works on)."""
@@ -293,7 +318,9 @@ class BackgroundMask:
         fg = self._sub.apply(small)
         self._frames += 1
         if self._frames <= self.warmup:
+            self.raw = None
             return None
+        self.raw = fg > 0
         fg = cv2.dilate((fg > 0).astype(np.uint8), np.ones((5, 5), np.uint8))
         if fg.mean() < self.min_fraction:
             return None

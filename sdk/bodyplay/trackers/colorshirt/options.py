@@ -61,6 +61,14 @@ class ColorShirtOptions:
     * ``max_speed``: fastest plausible root speed (m/s); a fit further than
       ``0.25 m + max_speed * dt`` from the pose reported within the last second is
       reported lost rather than as a jump across the room.
+    * ``gate_time``/``gate_speed``: the classification keeps only pixels within
+      ``gate_speed`` times the shirt's size per second elapsed (at least a 30th of
+      a second) of the shirt's box in the last pose reported, for ``gate_time``
+      seconds after it; the search for the shirt starts there too, and the whole
+      frame is searched after.
+    * ``still_frames``: after this many frames in a row in which the background
+      model saw nothing move in the tracked shirt's box in any camera, it is taken
+      for the room (clutter in shirt colors) and the shirt is searched anew.
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of
@@ -89,6 +97,12 @@ class ColorShirtOptions:
       plate, learned on empty-room frames before the shirt first appears);
       ``floor_offset`` (m) is the pelvis's depth minus the feet's, ``floor_std`` (m)
       the prior's standard deviation.
+    * ``depth_accel``: with one camera the floor readings and the shirt's size
+      are combined over time by a constant-velocity Kalman filter on the root's
+      depth (:class:`.depth.RootDepthFilter`) whose acceleration std this is
+      (m/s²; 0: off, the floor reading of the frame alone is the prior); floor
+      readings more than 3 standard deviations from its prediction (feet off
+      the floor) are left out; its std is reported as ``depth_std``.
     * ``head_cue``: in every camera, the head found in the plate's foreground above
       the collar constrains the head joint in the IK (beyond the paper; needs the
       plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
@@ -142,6 +156,9 @@ class ColorShirtOptions:
     white_std_scale: float = 3.0
     measurement_noise: float = 6.0
     max_speed: float = 5.0
+    gate_time: float = 0.34
+    gate_speed: float = 7.5
+    still_frames: int = 15
     max_mismatch: float = 0.5
     initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
     color_model: str | None = None
@@ -156,7 +173,7 @@ class ColorShirtOptions:
     floor_cue: bool = True
     floor_offset: float = 0.02
     floor_std: float = 0.05
-    depth_track_speed: float = 0.25
+    depth_accel: float = 3.0
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
@@ -203,6 +220,13 @@ class ColorShirtOptions:
         if not 0 <= self.measurement_noise <= 9:
             raise ConfigError("measurement_noise must be within 0..9 RGB units (default 6; "
                               "larger values let background into the dark shirt colors)")
+        if not (np.isfinite(self.gate_time) and self.gate_time > 0):
+            raise ConfigError("gate_time must be a positive time in seconds (default 0.34)")
+        if not (np.isfinite(self.gate_speed) and self.gate_speed > 0):
+            raise ConfigError("gate_speed must be a positive number of shirt sizes per second "
+                              "(default 7.5)")
+        if self.still_frames < 1:
+            raise ConfigError("still_frames must be at least 1 (default 15 frames)")
         if not (np.isfinite(self.max_speed) and self.max_speed > 0):
             raise ConfigError("max_speed must be a positive speed in m/s (default 5)")
         if not 1 <= self.body_selection_frames <= 300:
@@ -225,8 +249,8 @@ class ColorShirtOptions:
                               "0.5 (default 0.05)")
         if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
             raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
-        if not (np.isfinite(self.depth_track_speed) and 0.0 <= self.depth_track_speed <= 10.0):
-            raise ConfigError("depth_track_speed must be within 0 (off) and 10 m/s")
+        if not (np.isfinite(self.depth_accel) and 0.0 <= self.depth_accel <= 50.0):
+            raise ConfigError("depth_accel must be within 0 (off) and 50 m/s^2 (default 3)")
         if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
             raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
         if not (np.isfinite(self.head_offset) and abs(self.head_offset) <= 0.2):

@@ -51,7 +51,6 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
     FloorReading,
-    RootDepthTrack,
     floor_root_priors,
     head_anchors,
     head_height,
@@ -59,6 +58,7 @@ from bodyplay.trackers.colorshirt.cues import (
     within_reach,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
+from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
 from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
@@ -91,6 +91,9 @@ __all__ = ["ColorShirtTracker", "CameraView"]
 
 _REDUCE = 2
 """Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
+
+_STILL_FRACTION = 0.01
+"""Below this share of changed pixels (MOG2) the tracked shirt's box counts as still."""
 
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
@@ -171,10 +174,13 @@ class ColorShirtTracker:
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
         self._floor = FloorReading()
-        self._depth = RootDepthTrack(self.options.depth_track_speed)
+        o = self.options
+        self._depth = (RootDepthFilter(o.depth_accel, o.floor_std) if o.depth_accel > 0
+                       else None)
         self._root_priors: tuple[RootPrior, ...] = ()
-        """This frame's priors on the root's depth (the feet on the floor, and the
-        depth carried from the last frame by ``_depth``)."""
+        """This frame's priors on the root's depth (one camera: the depth filter's
+        prediction updated by the feet on the floor; without the filter the feet's
+        reading alone)."""
         self._selection: BodySelection | None = None
         self._stature: float | None = None
         self._arm_stage_started = False
@@ -211,7 +217,7 @@ class ColorShirtTracker:
         return self._stature if self._arm_stage_started or stage is None else stage.stature()
 
     # ---- per camera: locate, classify, query -----------------------------------------
-    def _view(self, i: int, image: NDArray[np.uint8]) -> CameraView | None:
+    def _view(self, i: int, image: NDArray[np.uint8], t: float) -> CameraView | None:
         o = self.options
         st = self._cams[i]
         maps = self._undistort[i]
@@ -222,6 +228,10 @@ class ColorShirtTracker:
         if o.background_subtraction or plate:
             reduced = st.background.reduce(image)  # MOG2 and the plate share it
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
+        if st.last_box is not None and o.background_subtraction:
+            moved = st.background.moving(st.last_box)
+            if moved is not None:
+                st.still = st.still + 1 if moved < _STILL_FRACTION else 0
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
         if mask is not None and st.last_box is not None:
@@ -239,13 +249,15 @@ class ColorShirtTracker:
             if plate:
                 st.floor.no_shirt()
             return None
+        gate = self._gate_box(st, t)
+        if gate is not None and not (gate[0] <= loc.x <= gate[2] and gate[1] <= loc.y <= gate[3]):
+            return None  # not where the shirt can be: leave W and the plate alone
         h, w = image.shape[:2]
         x0, y0, x1, y1 = loc.box(o.crop_margin)
         if st.last_box is not None:  # the shirt is near where it was a frame ago
             bx0, by0, bx1, by1 = st.last_box
             x0, y0, x1, y1 = min(x0, bx0), min(y0, by0), max(x1, bx1), max(y1, by1)
         x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, w), min(y1, h)
-        st.last_box = None
         if x1 - x0 < 8 or y1 - y0 < 8:
             return None
         scale = min(1.0, o.work_size / max(x1 - x0, y1 - y0))
@@ -262,6 +274,9 @@ class ColorShirtTracker:
                 alone = len(self.cameras) <= o.plate_mask_alone_cameras
                 cmask = pm if cmask is None or alone else cmask & pm
         window = CropWindow(float(x0), float(y0), float(cw) / (x1 - x0), cw, chh)
+        gated = self._gate_mask(st, window, t)
+        if gated is not None:
+            cmask = gated if cmask is None else cmask & gated
         # the paper's "supposedly foreground": masked pixels inside the located window
         fg = np.zeros((chh, cw), bool)
         half = 0.5 * loc.scale * window.scale
@@ -283,12 +298,57 @@ class ColorShirtTracker:
         ys, xs = np.nonzero((ids > 0) & (ids != WHITE_ID))
         blo = window.to_image(np.array([xs.min(), ys.min()], float))
         bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
-        pad = 0.15 * (bhi - blo).max()
-        st.last_box = (int(blo[0] - pad), int(blo[1] - pad), int(bhi[0] + pad), int(bhi[1] + pad))
         if plate:
-            st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])))
+            st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])),
+                              confirmed=self._reported is not None)
         make_query(view, self.database, lo, hi)
         return view
+
+    def _gate_box(self, st: CameraState, t: float) -> tuple[float, float, float, float] | None:
+        """Image box where the shirt can be at ``t`` (see :meth:`_gate_mask`)."""
+        if st.gate is None:
+            return None
+        gx0, gy0, gx1, gy1 = st.gate
+        m = self.options.gate_speed * max(t - st.gate_t, 1 / 30) * max(gx1 - gx0, gy1 - gy0)
+        return (gx0 - m, gy0 - m, gx1 + m, gy1 + m)
+
+    def _gate_mask(self, st: CameraState, window: CropWindow,
+                   t: float) -> NDArray[np.bool_] | None:
+        """Crop mask of where the shirt can be at ``t``: the shirt's box in the last
+        pose reported, grown by ``gate_speed`` times its size per second since (at
+        least a 30th of a second; None: no pose reported within ``gate_time``).
+
+        Colors outside it cannot pull the pose: without it, blobs of a poster or of
+        clothes in shirt colors next to the player were kept, grew the crop, and
+        the crop took in more of them frame after frame.
+        """
+        box = self._gate_box(st, t)
+        if box is None:
+            return None
+        a = window.to_crop(np.array(box[:2], float))
+        b = window.to_crop(np.array(box[2:], float))
+        out = np.zeros((window.height, window.width), bool)
+        out[max(0, int(a[1])): max(0, int(np.ceil(b[1]))),
+            max(0, int(a[0])): max(0, int(np.ceil(b[0])))] = True
+        return out
+
+    def _remember_shirt(self, q: NDArray[np.float64], t: float) -> None:
+        """After a pose is reported: every camera's gate and search box become the
+        box of the pose's shirt projected there (not the classified pixels' box,
+        which clutter in shirt colors next to the player can grow)."""
+        mesh = self.renderer.mesh
+        verts = self.renderer.vertices(q)[np.unique(mesh.faces[mesh.face_part > 0])]
+        for cam, st in zip(self.cameras, self._cams, strict=True):
+            uv = cam.project(verts.astype(np.float64), distort=False)
+            lo, hi = uv.min(axis=0), uv.max(axis=0)
+            x0, y0 = max(int(lo[0]), 0), max(int(lo[1]), 0)
+            x1, y1 = min(int(np.ceil(hi[0])), cam.width), min(int(np.ceil(hi[1])), cam.height)
+            if x1 - x0 < 4 or y1 - y0 < 4:
+                st.gate = None
+                continue
+            st.gate, st.gate_t = (x0, y0, x1, y1), t
+            pad = 0.15 * max(x1 - x0, y1 - y0)
+            st.last_box = (int(x0 - pad), int(y0 - pad), int(x1 + pad), int(y1 + pad))
 
     # ---- pose estimation -------------------------------------------------------------
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
@@ -360,7 +420,22 @@ class ColorShirtTracker:
         self._last_t = frames.t
         check_frame_set(frames, self.cameras)
         before = [None if st.W is None else st.W.copy() for st in self._cams]
-        views = [v for i, fr in enumerate(frames) if (v := self._view(i, fr.image)) is not None]
+        tracked = [st for st in self._cams if st.last_box is not None]
+        if tracked and all(st.still >= self.options.still_frames for st in tracked):
+            # nothing moved where the shirt is thought to be: a poster or clothes in
+            # shirt colors, not a player; forget it and search again
+            self.diagnostics["static"] = True
+            for st in self._cams:
+                st.gate = st.last_box = None
+            self._reported = None
+            self._prev = None
+        for st in self._cams:
+            if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
+                st.gate = st.last_box = None  # lost too long: search the whole frame
+            if st.last_box is None:
+                st.still = 0
+        views = [v for i, fr in enumerate(frames)
+                 if (v := self._view(i, fr.image, frames.t)) is not None]
         if self.options.adaptive_white_balance:
             M = share_light_change(self._cams, before, {v.index for v in views},
                                    self.options.retry_fraction)
@@ -370,8 +445,11 @@ class ColorShirtTracker:
         self.diagnostics = {}
         self._floor = floor_root_priors(self.cameras, self._cams, views, self.options)
         lone = views[0].index if len(views) == 1 else None
-        held = None if lone is None else self._depth.prior(self.cameras, lone, frames.t)
-        self._root_priors = self._floor.priors + ((held,) if held is not None else ())
+        if self._depth is not None:
+            prior = self._depth.begin(self.cameras, lone, frames.t, self._floor.depth)
+            self._root_priors = () if prior is None else (prior,)
+        else:
+            self._root_priors = self._floor.priors
         self.diagnostics["floor_priors"] = self._root_priors
         if not views:
             self._prev = None
@@ -405,7 +483,9 @@ class ColorShirtTracker:
                 self._refit_white_balance(v, r)
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
-        self._depth.update(self.cameras, lone, frames.t, fit.q[:3], self._floor.priors, held)
+        self._remember_shirt(fit.q, frames.t)
+        if self._depth is not None and lone is not None:
+            self._depth.end(float(self.cameras[lone].world_to_camera(fit.q[:3])[2]))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
@@ -597,6 +677,8 @@ class ColorShirtTracker:
         extras: dict[str, object] = {
             "feet": [(v.index, self._cams[v.index].floor.last_feet) for v in views],
             "floor_cue": bool(self._floor.priors),
+            "depth_std": (self._depth.std() if self._depth is not None and len(views) == 1
+                          else None),
             "arms": self.diagnostics.get("arms", [])}
         return pose_result(frames, self.skeleton, q, seen, views, self.cameras, heads,
                            self.options, 1000.0 * (time.perf_counter() - t0), extras)

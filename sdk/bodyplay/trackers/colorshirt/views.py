@@ -66,6 +66,12 @@ class CameraState:
     last_fraction: float | None = None
     floor: FloorWatch = field(default_factory=FloorWatch)
     """The background plate and the feet on the floor (the one-camera depth cue)."""
+    gate: tuple[int, int, int, int] | None = None
+    """Image box of the shirt of the last pose reported (its projected mesh), at
+    time ``gate_t``: the classification keeps only pixels near it."""
+    gate_t: float = float("nan")
+    still: int = 0
+    """Frames in a row in which MOG2 saw nothing move in the tracked shirt's box."""
 
 
 @dataclass(eq=False)
