@@ -340,6 +340,10 @@ class ColorShirtTracker:
         verts = self.renderer.vertices(q)[np.unique(mesh.faces[mesh.face_part > 0])]
         for cam, st in zip(self.cameras, self._cams, strict=True):
             uv = cam.project(verts.astype(np.float64), distort=False)
+            uv = uv[np.isfinite(uv).all(axis=1)]  # none behind the camera
+            if not len(uv):
+                st.gate = None
+                continue
             lo, hi = uv.min(axis=0), uv.max(axis=0)
             x0, y0 = max(int(lo[0]), 0), max(int(lo[1]), 0)
             x1, y1 = min(int(np.ceil(hi[0])), cam.width), min(int(np.ceil(hi[1])), cam.height)
