@@ -235,7 +235,8 @@ def test_one_camera_masks_with_the_plate_alone_where_two_need_both_masks_to_agre
     for alone in (1, 0):
         opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
                                  body="m_slim", arm_selection_frames=0,
-                                 plate_mask_alone_cameras=alone)
+                                 plate_mask_alone_cameras=alone,
+                                 gate_speed=1e6)  # the gate around the last pose: everywhere
         src = open_source(lead_in_capture)
         assert src.cameras is not None
         tracker = create_colorshirt_tracker(opts, src.cameras[:1])
