@@ -124,7 +124,7 @@ def _blocked_in(thread: threading.Thread) -> str:
     stack = [f for f in traceback.extract_stack(frame) if not f.filename.endswith(skip)]
     if not stack:
         return "bodyplay's own loop"
-    f = stack[0] if len(stack) == 1 else stack[-1]
+    f = stack[-1]  # the innermost
     return f"{f.name} ({f.filename}:{f.lineno})"
 
 
