@@ -218,15 +218,16 @@ def test_options_reject_nonsense() -> None:
         BackgroundOptions(rate=2.0)
 
 
-def test_factory_needs_exactly_one_camera(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+def test_factory_needs_a_camera_and_uses_the_first_of_a_rig(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.capture.camera import Camera
     from bodyplay.trackers.silhouette import create_silhouette_tracker
 
     cam = Camera.from_fov("cam0", 640, 480, 60.0)
-    with pytest.raises(ConfigError, match="exactly one"):
-        create_silhouette_tracker(cameras=(cam, cam), tree=silhouette_tree)
-    t = create_silhouette_tracker(cameras=(cam,), tree=silhouette_tree)
-    assert t.name == "silhouette"
+    with pytest.raises(ConfigError, match="one calibrated camera"):
+        create_silhouette_tracker(cameras=(), tree=silhouette_tree)
+    t = create_silhouette_tracker(cameras=(cam, Camera.from_fov("cam1", 320, 240, 60.0)),
+                                  tree=silhouette_tree)
+    assert t.name == "silhouette" and t.cameras == (cam,)
 
 
 def test_silhouette_is_a_tracker_plugin() -> None:

@@ -47,14 +47,15 @@ def create_silhouette_tracker(
 ) -> SilhouetteTracker:
     """Validate the options and the camera and build a ready tracker.
 
+    Of several cameras the first is used (and the first frame of every frame set).
     The shape hierarchy is loaded from the cache (built on first use, about a
     minute from the vendored clips) unless ``tree`` is given.
     """
     opts = options or SilhouetteOptions()
     cams = tuple(cameras)
-    if len(cams) != 1:
-        raise ConfigError(f"the silhouette tracker uses exactly one calibrated camera, got "
-                          f"{len(cams)}; pass cameras[:1]")
+    if not cams:
+        raise ConfigError("the silhouette tracker needs one calibrated camera, got none")
+    cams = cams[:1]  # one camera (the paper's setup): the first of a rig
     if tree is None:
         cache = Path(opts.cache) if opts.cache else None
         tree = load_or_build_tree(opts.hierarchy, cache, progress=progress)

@@ -107,6 +107,8 @@ class SilhouetteTracker:
     def process(self, frames: FrameSet) -> TrackResult:
         """Estimate the pose for one frame set (one camera)."""
         t0 = time.perf_counter()
+        if len(frames) > 1:  # a rig's frame set: this tracker reads its first camera
+            frames = FrameSet(frames.frames[:1], frames.t, frames.index)
         check_frame_set(frames, self.cameras)
         if self._t is not None and frames.t <= self._t:
             raise TimestampError(f"frame set t={frames.t} is not after the previous t={self._t}")
