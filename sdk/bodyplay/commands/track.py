@@ -74,6 +74,11 @@ def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
         return create_colorshirt_tracker(opts, cameras, progress=True)
     from bodyplay.trackers import create_tracker
 
+    if args.tracker == "silhouette" and not args.set:
+        from bodyplay.trackers.silhouette import create_silhouette_tracker
+
+        # the first use builds the shape hierarchy (minutes): show its progress
+        return create_silhouette_tracker(None, cameras, progress=True)
     if args.set:
         raise ConfigError(f"--set applies to the colorshirt tracker's options, not to "
                           f"{args.tracker!r}")
