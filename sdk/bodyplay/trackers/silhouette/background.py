@@ -31,8 +31,9 @@ known after ``learn_after`` frames.
 A player who stands still from the first frame would show nothing: with
 ``bootstrap`` the first frame's likely figure (:func:`first_guess`, GrabCut
 against the image's edges) is kept from being learned until the tracker has an
-estimate, and counts (with the foreground) when the floor point is sought; it
-stays "don't care" to the distance: the evidence of the pose is what moves.
+estimate (or for ``hold_guess`` frames without one), and counts (with the
+foreground) when the floor point is sought; it stays "don't care" to the distance:
+the evidence of the pose is what moves.
 """
 
 from __future__ import annotations
@@ -144,6 +145,7 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     mask = np.zeros((sh, sw), np.uint8)
     bgd = np.zeros((1, 65), np.float64)
     fgd = np.zeros((1, 65), np.float64)
+    cv2.setRNGSeed(0)  # GrabCut's clustering draws from OpenCV's RNG: same frame, same guess
     try:
         rect = (mx, my, sw - 2 * mx, sh - my - mb)
         cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, rect, bgd, fgd, 3,
@@ -171,6 +173,7 @@ class BackgroundModel:
         self._still: NDArray[np.int32] | None = None
         self.known: NDArray[np.bool_] | None = None
         self.occupied: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self._frames = 0
 
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
         if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
@@ -194,6 +197,7 @@ class BackgroundModel:
         """
         o = self.options
         x = self._prepare(image)
+        self._frames += 1
         if self._mean is None or self._mean.shape != x.shape:
             self._mean = x.copy()
             self._var = np.full(x.shape, o.min_std**2, np.float32)
@@ -217,7 +221,8 @@ class BackgroundModel:
             protect = cv2.dilate(moved,
                                  cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
                                  ) > 0
-            protect |= self.occupied  # the first guess of the player waits for the tracker
+            if self._frames < o.hold_guess:  # the first guess of the player waits a while
+                protect |= self.occupied
         elif protect.shape != fg.shape:
             raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
                                f"{fg.shape[::-1]}")

@@ -27,7 +27,8 @@ class BackgroundOptions:
     ``open_px``/``close_px`` the morphological clean-up; ``min_area`` the smallest
     blob share of the image kept; ``working_size`` the short side of the image the
     model works on (the paper: 640x480 down-sampled to 320x240); ``bootstrap``: take
-    the first frame's likely figure (GrabCut) as the player until it is learned.
+    the first frame's likely figure (GrabCut) as the player until it is learned,
+    ``hold_guess`` the frames it is kept from learning while the tracker has no pose.
     """
 
     threshold: float = 4.0
@@ -41,6 +42,7 @@ class BackgroundOptions:
     min_area: float = 0.002
     working_size: int = 240
     bootstrap: bool = True
+    hold_guess: int = 60
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
