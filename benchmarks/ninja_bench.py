@@ -17,17 +17,21 @@ import argparse
 import datetime
 import json
 import os
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
-from apps.ninja.game import NinjaPlayer
-from apps.ninja.game.game import NinjaGame
 
 from _machine import machine
-from bodyplay.app import make_game_options, run_game
-from bodyplay.virtual import VirtualPoseSource
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # apps/ from a checkout
+from apps.ninja.game import NinjaPlayer  # noqa: E402
+from apps.ninja.game.game import NinjaGame  # noqa: E402
+
+from bodyplay.app import make_game_options, run_game  # noqa: E402
+from bodyplay.virtual import VirtualPoseSource  # noqa: E402
 
 STAGES = ("game", "render", "video", "physics")
 

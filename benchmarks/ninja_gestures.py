@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
+import sys
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -30,14 +31,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from apps.ninja.game.player import MOTION_END
-from apps.ninja.game.simulate import ninja_recognizer
 
 from _machine import machine
-from bodyplay.body import Skeleton
-from bodyplay.filters import one_euro_filter
-from bodyplay.gestures.evaluation import GestureScore, score_events
-from bodyplay.testing import GESTURE_MOTIONS, Timeline
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # apps/ from a checkout
+from apps.ninja.game.player import MOTION_END  # noqa: E402
+from apps.ninja.game.simulate import ninja_recognizer  # noqa: E402
+
+from bodyplay.body import Skeleton  # noqa: E402
+from bodyplay.filters import one_euro_filter  # noqa: E402
+from bodyplay.gestures.evaluation import GestureScore, score_events  # noqa: E402
+from bodyplay.testing import GESTURE_MOTIONS, Timeline  # noqa: E402
 
 FIVE = ("transfigure", "crouch", "step_left", "step_right", "hit", "double_hit")
 NEGATIVES = ("raise_right_hand", "wave_right", "punch_right", "raise_both_hands", "wave_left")
