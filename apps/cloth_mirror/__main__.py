@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from bodyplay.app import game_argument_parser, game_main
+from bodyplay.app import game_argument_parser, game_main, preferred_tracker
 from bodyplay.cloth import GARMENTS
 
 __all__ = ["main", "default_tracker"]
@@ -20,13 +20,7 @@ __all__ = ["main", "default_tracker"]
 def default_tracker() -> str:
     """``silhouette`` (the paper's cloth demo) when that tracker is installed, else
     ``colorshirt`` (the virtual actor wears the shirt either way)."""
-    from bodyplay.plugins import PluginRegistry
-
-    try:
-        names = PluginRegistry().names("trackers")
-    except Exception:  # a broken plugin list must not stop the app
-        return "colorshirt"
-    return "silhouette" if "silhouette" in names else "colorshirt"
+    return preferred_tracker("silhouette")
 
 
 def main(argv: list[str] | None = None) -> int:

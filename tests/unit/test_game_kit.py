@@ -123,3 +123,11 @@ def test_camera_inset_shows_the_picture_with_the_skeleton_and_skips_pose_input()
     camera_inset(SimpleNamespace(frame=None, session=SimpleNamespace(cameras=()), pose=None),
                  empty)  # type: ignore[arg-type]
     assert not empty.insets
+
+
+def test_preferred_tracker_takes_the_first_installed_and_falls_back() -> None:
+    from bodyplay.app import preferred_tracker
+
+    assert preferred_tracker("no_such_tracker", "colorshirt") == "colorshirt"
+    assert preferred_tracker("no_such_tracker", fallback="silhouette") == "silhouette"
+    assert preferred_tracker("silhouette") == "silhouette"

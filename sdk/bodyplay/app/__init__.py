@@ -7,7 +7,7 @@ summary.json; :func:`game_main` is the one command line of every game.
 """
 
 from bodyplay.app.analysis import HandKinematics, HandTrace, Marker, plot_hand_motion
-from bodyplay.app.cli import game_argument_parser, game_main
+from bodyplay.app.cli import game_argument_parser, game_main, preferred_tracker
 from bodyplay.app.game import STAGES, Game, GameContext
 from bodyplay.app.hud import camera_inset
 from bodyplay.app.inputs import GameInput, open_game_input
@@ -39,5 +39,6 @@ __all__ = [
     "make_game_options",
     "open_game_input",
     "plot_hand_motion",
+    "preferred_tracker",
     "run_game",
 ]

@@ -21,7 +21,22 @@ from bodyplay.app.options import VIRTUAL_INPUT, make_game_options
 from bodyplay.app.runner import run_game
 from bodyplay.errors import BodyplayError
 
-__all__ = ["game_main", "game_argument_parser"]
+__all__ = ["game_main", "game_argument_parser", "preferred_tracker"]
+
+
+def preferred_tracker(*names: str, fallback: str = "colorshirt") -> str:
+    """The first of ``names`` that is installed as a tracker plugin, else ``fallback``.
+
+    A game states the tracker it was designed for (``preferred_tracker("silhouette")``)
+    and still starts where that plugin is missing or the plugin list is broken.
+    """
+    from bodyplay.plugins import PluginRegistry
+
+    try:
+        installed = set(PluginRegistry().names("trackers"))
+    except Exception:  # a broken plugin list must not stop the game
+        return fallback
+    return next((n for n in names if n in installed), fallback)
 
 
 def game_argument_parser(name: str, description: str = "", *,
