@@ -266,15 +266,7 @@ class PhysicsWorld(ContactBook):
         with self.lock:
             if self._closed:
                 return
-            t = float(event.t)
-            if self._last_t is not None and not t > self._last_t:
-                raise TimestampError(
-                    f"physics got pose frame {event.frame} at t = {t:.6f} s, not after the "
-                    f"previous pose at t = {self._last_t:.6f} s"
-                )
-            joints = self._joints(event)
-            self._build(joints)
-            uv = self._points(joints)
+            t, uv = self._take_pose(event)
             present = {n: self._geometry(p, uv) is not None for n, p in self._parts.items()}
             for n, p in self._parts.items():
                 if p.enabled and not present[n]:
@@ -289,6 +281,19 @@ class PhysicsWorld(ContactBook):
                     self._enable(p, uv)
             self._prev_uv, self._prev_t, self._last_t = uv, t, t
 
+    def _take_pose(self, event: PoseEvent) -> tuple[float, NDArray[np.float64]]:
+        """Check that ``event`` comes after the previous pose, size the body parts to it
+        and return its time with the joints projected on the play plane (under the lock)."""
+        t = float(event.t)
+        if self._last_t is not None and not t > self._last_t:
+            raise TimestampError(
+                f"physics got pose frame {event.frame} at t = {t:.6f} s, not after the "
+                f"previous pose at t = {self._last_t:.6f} s"
+            )
+        joints = self._joints(event)
+        self._build(joints)
+        return t, self._points(joints)
+
     def resume(self, event: PoseEvent) -> None:
         """Take ``event``'s pose without simulating the time since the previous pose
         (after a game pause): objects stay where they were, the body parts jump to the
@@ -298,15 +303,7 @@ class PhysicsWorld(ContactBook):
         with self.lock:
             if self._closed:
                 return
-            t = float(event.t)
-            if self._last_t is not None and not t > self._last_t:
-                raise TimestampError(
-                    f"physics got pose frame {event.frame} at t = {t:.6f} s, not after the "
-                    f"previous pose at t = {self._last_t:.6f} s"
-                )
-            joints = self._joints(event)
-            self._build(joints)
-            uv = self._points(joints)
+            t, uv = self._take_pose(event)
             for p in self._parts.values():
                 g = self._geometry(p, uv)
                 if p.enabled and g is None:
