@@ -245,3 +245,26 @@ def test_shifted_run_scoring_equals_scoring_the_moved_template() -> None:
         moved = np.roll(_blob(), dx, axis=1)  # the blob is far from the window's sides
         got = score_runs_shifted(maps, runs, np.array([0]), np.array([dx]), np.array([0]))
         assert got[0] == pytest.approx(score_direct(maps, moved), rel=1e-9, abs=1e-12)
+
+
+def test_first_build_of_the_hierarchy_is_announced_with_its_cache_path(
+        tmp_path, caplog, capsys) -> None:  # type: ignore[no-untyped-def]
+    import logging
+
+    from bodyplay.trackers.silhouette import hierarchy
+
+    opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.0,
+                            bodies=("m",), thresholds=(0.1, 0.08, 0.06), max_poses=40,
+                            dedup_deg=12.0)
+    path = hierarchy.tree_cache_path(opts, tmp_path)
+    with caplog.at_level(logging.INFO, logger="bodyplay.silhouette"):
+        hierarchy.load_or_build_tree(opts, tmp_path)
+    building = [r for r in caplog.records if "building the silhouette shape hierarchy"
+                in r.getMessage()]
+    assert len(building) == 1 and building[0].levelno == logging.WARNING
+    assert str(path) in building[0].getMessage() and "once" in building[0].getMessage()
+    assert "%|" not in capsys.readouterr().err  # no bar when stderr is not a terminal
+    caplog.clear()
+    with caplog.at_level(logging.INFO, logger="bodyplay.silhouette"):
+        hierarchy.load_or_build_tree(opts, tmp_path)  # cached: silent
+    assert not caplog.records

@@ -43,13 +43,15 @@ def create_silhouette_tracker(
     options: SilhouetteOptions | None = None,
     cameras: Sequence[Camera] = (),
     tree: ShapeTree | None = None,
-    progress: bool = False,
+    progress: bool | None = None,
 ) -> SilhouetteTracker:
     """Validate the options and the camera and build a ready tracker.
 
     Of several cameras the first is used (and the first frame of every frame set).
-    The shape hierarchy is loaded from the cache (built on first use, about a
-    minute from the vendored clips) unless ``tree`` is given.
+    The shape hierarchy is loaded from the cache unless ``tree`` is given. On first
+    use it is built (about two minutes from the vendored clips): a WARNING on the
+    ``bodyplay.silhouette`` logger says so and where it is cached, and a tqdm bar
+    shows the progress on stderr (``progress``; by default when stderr is a terminal).
     """
     opts = options or SilhouetteOptions()
     cams = tuple(cameras)

@@ -30,7 +30,9 @@ renamed, so a killed build never leaves half a file.
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
+import sys
 import time
 from dataclasses import dataclass
 from functools import cached_property
@@ -62,6 +64,8 @@ __all__ = [
     "load_or_build_tree",
     "tree_cache_path",
 ]
+
+_log = logging.getLogger("bodyplay.silhouette")
 
 FORMAT_VERSION = 3
 
@@ -386,20 +390,36 @@ def tree_cache_path(options: HierarchyOptions, cache_dir: Path | None = None) ->
 
 
 def load_or_build_tree(options: HierarchyOptions, cache_dir: Path | None = None,
-                       progress: bool = False) -> ShapeTree:
+                       progress: bool | None = None) -> ShapeTree:
     """The cached hierarchy for these options, built (and cached) when missing, of
-    another version or damaged."""
+    another version or damaged.
+
+    A build is announced with a WARNING on the ``bodyplay.silhouette`` logger (it
+    takes minutes and happens once per option set); ``progress`` shows a tqdm bar on
+    stderr, by default only when stderr is a terminal.
+    """
     path = tree_cache_path(options, cache_dir)
     key = path.stem.rsplit("_", 1)[-1]
+    reason = "first use"
     if path.exists():
         try:
             return ShapeTree.load(path, options, key)
         except (OSError, ValueError, KeyError):
             path.unlink(missing_ok=True)
+            reason = "the cached one is stale or damaged"
+    if progress is None:
+        progress = sys.stderr.isatty()
+    _log.warning("building the silhouette shape hierarchy (%s): this happens once and "
+                 "takes about two minutes with the default options (longer with more "
+                 "clips or bodies); it is cached in %s and loaded in seconds afterwards. "
+                 "`bodyplay build-db --tracker silhouette` builds it ahead of time.",
+                 reason, path)
     tree = build_tree(options, progress=progress)
     try:
         tree.save(path, key)
     except OSError as exc:
         raise ConfigError(f"cannot write the shape hierarchy cache {path}: {exc}; pass a "
                           "writable cache folder") from None
+    _log.info("silhouette shape hierarchy built in %.0f s, cached in %s",
+              tree.build_seconds, path)
     return tree
