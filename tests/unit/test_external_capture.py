@@ -54,3 +54,33 @@ def test_sports2d_demo_becomes_a_capture_folder(shared_data: Path, tmp_path: Pat
     out = import_capture(shared_data / "video" / "sports2d", tmp_path / "cap")
     (cam,) = read_calib(out)
     assert (cam.width, cam.height) == (1768, 994)
+
+
+def test_sports2d_import_gives_a_y_up_world_with_the_floor_at_y_0(
+    shared_data: Path, tmp_path: Path
+) -> None:
+    out = import_capture(shared_data / "video" / "sports2d", tmp_path / "cap")
+    (cam,) = read_calib(out)
+    centre = -cam.R.T @ cam.t
+    assert 1.0 < centre[1] < 2.5  # the camera at about eye height above the floor
+    down = cam.R[1]  # the image's down direction in the world
+    assert down[1] < -0.99  # image down is world -Y: Y is up
+    # the floor 10 m in front of the camera (where the walker's feet are) is in the
+    # lower part of the image, near its bottom edge, and above it the horizon
+    floor = centre + 10.0 * cam.R[2] * np.array([1.0, 0.0, 1.0])
+    floor[1] = 0.0
+    u, v = cam.project(floor[None])[0]
+    assert 0 <= u < cam.width and 0.85 * cam.height < v < cam.height
+
+
+def test_toml_calibration_axis_swap_keeps_the_projection(tmp_path: Path) -> None:
+    f = tmp_path / "Calib.toml"
+    f.write_text('[c]\nname = "c"\nsize = [640, 480]\n'
+                 "matrix = [[500.0, 0.0, 320.0], [0.0, 500.0, 240.0], [0.0, 0.0, 1.0]]\n"
+                 "distortions = [0.0, 0.0, 0.0, 0.0]\nrotation = [1.2, 1.2, -1.2]\n"
+                 "translation = [-0.5, 1.5, 6.0]\n")
+    (zup,) = read_toml_calib(f, y_up=False)
+    (yup,) = read_toml_calib(f)
+    p_zup = np.array([[0.3, -0.2, 1.1]])
+    p_yup = p_zup[:, [1, 2, 0]]  # (old y, old z, old x)
+    np.testing.assert_allclose(yup.project(p_yup), zup.project(p_zup), atol=1e-9)

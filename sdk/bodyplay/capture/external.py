@@ -26,19 +26,26 @@ from bodyplay.errors import CalibrationError, CaptureError, reading
 __all__ = ["read_toml_calib", "scale_about_center", "import_capture"]
 
 
-def read_toml_calib(path: str | Path) -> list[Camera]:
+def read_toml_calib(path: str | Path, y_up: bool = True) -> list[Camera]:
     """Read a Pose2Sim / Sports2D TOML calibration (one table per camera).
 
     Each table holds ``size`` [w, h], ``matrix`` (K), ``distortions`` [k1, k2, p1,
     p2], ``rotation`` (a Rodrigues vector) and ``translation`` (metres), world to
-    camera, OpenCV convention; the ``metadata`` table is skipped.
+    camera, OpenCV convention; the ``metadata`` table is skipped. Their world is Z
+    up with the floor at Z = 0 (Sports2D puts its camera ``perspective_value`` metres
+    from the origin at about eye height, looking level along -X); with ``y_up`` it
+    is turned into bodyplay's Y-up world by (X, Y, Z) = (old y, old z, old x), the
+    same axis swap as :func:`~bodyplay.capture.calibration.read_qualisys_calib`, so
+    the floor is Y = 0.
     """
     with reading(path, CalibrationError, "TOML calibration"):
-        return _read_toml_calib_unchecked(path)
+        return _read_toml_calib_unchecked(path, y_up)
 
 
-def _read_toml_calib_unchecked(path: str | Path) -> list[Camera]:
+def _read_toml_calib_unchecked(path: str | Path, y_up: bool = True) -> list[Camera]:
     """The unchecked reader behind :func:`read_toml_calib`."""
+    # X_cam = R X_old + t and X_old = P^T X_new, so the camera's rotation becomes R P^T
+    P = np.array([[0.0, 1, 0], [0, 0, 1], [1, 0, 0]]) if y_up else np.eye(3)
     p = Path(path)
     try:
         data = tomllib.loads(p.read_text())
@@ -59,7 +66,7 @@ def _read_toml_calib_unchecked(path: str | Path) -> list[Camera]:
                     w,
                     h,
                     np.asarray(table["matrix"], dtype=np.float64),
-                    np.asarray(R, dtype=np.float64),
+                    np.asarray(R, dtype=np.float64) @ P.T,
                     np.asarray(table["translation"], dtype=np.float64),
                     np.asarray(table.get("distortions", [0, 0, 0, 0]), dtype=np.float64),
                 )
