@@ -268,3 +268,16 @@ def test_first_build_of_the_hierarchy_is_announced_with_its_cache_path(
     with caplog.at_level(logging.INFO, logger="bodyplay.silhouette"):
         hierarchy.load_or_build_tree(opts, tmp_path)  # cached: silent
     assert not caplog.records
+
+
+def test_track_set_overrides_silhouette_options_and_rejects_unknown_names() -> None:
+    from bodyplay.commands.track import _silhouette_options
+
+    opts = _silhouette_options(["max_distance=12", "shift_search=2,1", "body=m"])
+    assert opts.max_distance == 12.0 and opts.shift_search == (2, 1) and opts.body == "m"
+    with pytest.raises(ConfigError, match="max_distance"):
+        _silhouette_options(["max_distanse=12"])
+    with pytest.raises(ConfigError, match="cannot read"):
+        _silhouette_options(["max_distance=far"])
+    with pytest.raises(ConfigError):
+        _silhouette_options(["sigma=-1"])  # the options' own validation still applies

@@ -50,7 +50,8 @@ def register(subparsers: Any) -> None:
     cs.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="any other ColorShirtOptions field (repeatable), e.g. "
                          "--set max_speed=4 --set measurement_noise=0 --set locate.tau=0.12; "
-                         "see docs/colorshirt.md for the list")
+                         "see docs/colorshirt.md for the list; with --tracker silhouette "
+                         "a SilhouetteOptions field, e.g. --set max_distance=12")
     p.set_defaults(func=run)
 
 
@@ -74,16 +75,46 @@ def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
         return create_colorshirt_tracker(opts, cameras, progress=True)
     from bodyplay.trackers import create_tracker
 
-    if args.tracker == "silhouette" and not args.set:
+    if args.tracker == "silhouette":
         from bodyplay.trackers.silhouette import create_silhouette_tracker
 
         # the first use builds the shape hierarchy (minutes): show its progress
-        return create_silhouette_tracker(None, cameras, progress=True)
+        return create_silhouette_tracker(_silhouette_options(args.set), cameras,
+                                         progress=True)
     if args.set:
-        raise ConfigError(f"--set applies to the colorshirt tracker's options, not to "
-                          f"{args.tracker!r}")
+        raise ConfigError(f"--set applies to the colorshirt and silhouette trackers' "
+                          f"options, not to {args.tracker!r}")
     # any other tracker plugin (entry point group ``bodyplay.trackers``), default options
     return create_tracker(args.tracker, cameras)
+
+
+def _silhouette_options(items: list[str]) -> Any:
+    """SilhouetteOptions with ``--set NAME=VALUE`` applied to its number, text and
+    pair fields (e.g. ``--set max_distance=12`` for a camera far from the player)."""
+    import dataclasses
+    import typing
+
+    from bodyplay.trackers.silhouette import SilhouetteOptions
+
+    hints = typing.get_type_hints(SilhouetteOptions)
+    settable = {k: h for k, h in hints.items() if k not in ("hierarchy", "background")}
+    values: dict[str, Any] = {}
+    for item in items:
+        key, sep, text = (part.strip() for part in item.partition("="))
+        if not sep or key not in settable:
+            raise ConfigError(f"--set {item!r}: write NAME=VALUE with NAME one of "
+                              f"{', '.join(settable)}")
+        hint = settable[key]
+        try:
+            if hint is float or hint is int:
+                values[key] = hint(text)
+            elif typing.get_origin(hint) is tuple:
+                values[key] = tuple(int(v) for v in text.split(",") if v.strip())
+            else:  # str, or str | None
+                values[key] = None if text.lower() in ("none", "") and key == "cache" else text
+        except ValueError:
+            raise ConfigError(f"--set {item!r}: cannot read {text!r} as {hint}") from None
+    return dataclasses.replace(SilhouetteOptions(), **values)
 
 
 def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,
