@@ -216,6 +216,8 @@ def test_options_reject_nonsense() -> None:
         SilhouetteOptions(occlusion_m=0.5)
     with pytest.raises(ConfigError):
         BackgroundOptions(rate=2.0)
+    with pytest.raises(ConfigError, match="protect_radius"):
+        SilhouetteOptions(protect_radius=1.5)
 
 
 def test_factory_needs_a_camera_and_uses_the_first_of_a_rig(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
