@@ -46,6 +46,26 @@ def test_background_learns_with_the_player_in_view_from_frame_0() -> None:
     assert not fg[75:210, 50:90].any()
 
 
+def test_background_finds_a_player_who_stands_still_but_for_an_arm() -> None:
+    # in view from frame 0, the torso never moves: only the arm shows a change; the
+    # still torso must still be foreground, the room beside it background
+    rng = np.random.default_rng(2)
+    room = _room(rng)
+    model = BackgroundModel(BackgroundOptions())
+    for i in range(60):
+        img = room.copy()
+        img[150:420, 280:360] = (200, 40, 40)  # the torso and legs, still
+        y = 160 + 8 * (i % 20)  # an arm swinging up and down beside it
+        img[y : y + 30, 360:440] = (40, 60, 200)
+        sil = model.apply(img)
+    fg = sil.foreground > 0
+    torso = np.zeros_like(fg)
+    torso[75:210, 140:180] = True
+    assert fg[torso].mean() > 0.95  # the still torso is the player
+    assert fg[75:210, 30:120].mean() < 0.02  # the room at its side is not
+    assert sil.unknown[75:210, 30:200].sum() == 0  # nothing left "don't care" there
+
+
 def test_background_empty_room_start_makes_every_pixel_known() -> None:
     room = _room(np.random.default_rng(1))
     model = BackgroundModel(BackgroundOptions(learn_after=5))

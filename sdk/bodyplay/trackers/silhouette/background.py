@@ -28,12 +28,27 @@ and unknown (still, never confirmed). The distance of :mod:`.distance` treats
 unknown pixels as "don't care". An empty-room start simply makes every pixel
 known after ``learn_after`` frames.
 
-A player who stands still from the first frame would show nothing: with
-``bootstrap`` the first frame's likely figure (:func:`first_guess`, GrabCut
-against the image's edges) is kept from being learned until the tracker has an
-estimate (or for ``hold_guess`` frames without one), and counts (with the
-foreground) when the floor point is sought; it stays "don't care" to the distance:
-the evidence of the pose is what moves.
+The first frame is segmented too (``bootstrap``): GrabCut (OpenCV) against the
+image's edges gives a coarse, generous guess of the player (:func:`first_guess`).
+What lies outside it, a few pixels away (``guess_margin``), is the background and
+known from the first frame. Inside it the pixels stay unknown until they are
+resolved: every ``resolve_every`` frames, GrabCut runs again on the crop around
+the unknown pixels, seeded with what the model now knows -- the known background
+that shows no change is background, what differs from the known background is
+the player (the limbs that moved out of the guess), the unknown pixels are
+"probably" either (the previous answer). Its answer labels the unknown pixels:
+
+* still ones it calls the player are foreground (a torso that has not moved since
+  the first frame) and are not learned;
+* still ones it calls background are background (not "don't care": a larger
+  template would otherwise cover them for free);
+* differing ones it calls background are the first frame's copy of the player
+  that has moved away (a ghost) and are not foreground until something moves
+  there.
+
+Without a guess (``bootstrap`` off, or nothing found) or before the first
+resolution, unknown pixels are "don't care" to the distance and the guess only
+helps to find the floor point.
 """
 
 from __future__ import annotations
@@ -173,6 +188,8 @@ class BackgroundModel:
         self._still: NDArray[np.int32] | None = None
         self.known: NDArray[np.bool_] | None = None
         self.occupied: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self.player: NDArray[np.bool_] | None = None
+        self._ghost: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self._frames = 0
 
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
@@ -207,6 +224,12 @@ class BackgroundModel:
             self.occupied = (first_guess(image, x.shape[1::-1]) if o.bootstrap
                              else np.zeros(x.shape[:2], bool))
             self._was_diff = np.zeros(x.shape[:2], bool)
+            self.player = None
+            if o.resolve_every and self.occupied.any():
+                # outside the first frame's guess, what the camera sees is the background
+                r = o.guess_margin
+                k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
+                self.known = ~(cv2.dilate(self.occupied.astype(np.uint8), k) > 0)
         assert self._var is not None and self._prev is not None and self._still is not None
         assert self.known is not None
         differs = np.zeros(x.shape[:2], np.uint8)
@@ -215,7 +238,18 @@ class BackgroundModel:
                   np.float32(o.intensity_weight**2), np.float32(o.threshold**2),
                   np.float32((2.5 * o.min_std) ** 2 * 3.0), differs, moved)
         self._prev = x
-        fg = self._clean(differs)
+        if (o.resolve_every and self._frames % o.resolve_every == 0
+                and not self.known.all()):
+            self._resolve(image, x.shape[1::-1], differs)
+        shown: NDArray[np.uint8] = differs
+        if self.player is not None:
+            # unknown pixels: the still ones the colours say are the player count, and
+            # the differing ones they say are background (the first frame's copy of
+            # the player, a ghost) do not, until something moves there
+            self._ghost &= ~moved.astype(bool)
+            shown = (((differs > 0) & ~(self._ghost & ~self.known))
+                     | (self.player & ~self.known)).astype(np.uint8)
+        fg = self._clean(shown)
         if protect is None:
             r = max(3, int(0.1 * x.shape[0]))
             protect = cv2.dilate(moved,
@@ -226,12 +260,54 @@ class BackgroundModel:
         elif protect.shape != fg.shape:
             raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
                                f"{fg.shape[::-1]}")
+        if self.player is not None:
+            protect = protect | (self.player & ~self.known)
         _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,
                np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
                np.float32(o.min_std**2))
         unknown = (~self.known & (fg == 0)).astype(np.uint8)
+        if self.player is not None:  # resolved: the rest of the unknown is background
+            unknown[:] = 0
         region = fg | (self.occupied & ~self.known).astype(np.uint8)
         return Silhouette(fg, unknown, x.shape[1] / image.shape[1], region)
+
+    def _resolve(self, image: NDArray[np.uint8], size: tuple[int, int],
+                 differs: NDArray[np.uint8]) -> None:
+        """Which unknown pixels are the player: GrabCut (OpenCV) seeded with the known
+        background that shows no change (background) and what differs from it (the
+        player over a learned background), on the crop around the unknown pixels;
+        sets ``player`` (the unknown pixels it calls the player) and the ghosts."""
+        assert self.known is not None
+        unknown = ~self.known
+        fg_known = self.known & (differs > 0)
+        if not (differs > 0).any():
+            return
+        ys, xs = np.nonzero(unknown | fg_known)
+        m = 12
+        y0, y1 = max(0, ys.min() - m), min(size[1], ys.max() + m + 1)
+        x0, x1 = max(0, xs.min() - m), min(size[0], xs.max() + m + 1)
+        if image.shape[1] != size[0]:
+            image = np.asarray(cv2.resize(image, size, interpolation=cv2.INTER_AREA), np.uint8)
+        crop = np.ascontiguousarray(image[y0:y1, x0:x1])
+        mask: NDArray[np.uint8] = np.full((y1 - y0, x1 - x0), cv2.GC_BGD, np.uint8)
+        un = unknown[y0:y1, x0:x1]
+        prev = self.player[y0:y1, x0:x1] if self.player is not None else np.ones_like(un)
+        mask[un] = cv2.GC_PR_BGD
+        mask[un & prev] = cv2.GC_PR_FGD
+        mask[un & (differs[y0:y1, x0:x1] > 0)] = cv2.GC_PR_FGD
+        mask[fg_known[y0:y1, x0:x1]] = cv2.GC_FGD
+        bgd = np.zeros((1, 65), np.float64)
+        fgd = np.zeros((1, 65), np.float64)
+        cv2.setRNGSeed(0)
+        try:
+            cv2.grabCut(cv2.cvtColor(crop, cv2.COLOR_RGB2BGR), mask, (0, 0, 1, 1), bgd, fgd,
+                        self.options.resolve_iterations, cv2.GC_INIT_WITH_MASK)
+        except cv2.error:
+            return
+        player = np.zeros(size[::-1], bool)
+        player[y0:y1, x0:x1] = (mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)
+        self.player = player & unknown
+        self._ghost = unknown & (differs > 0) & ~player
 
     def _clean(self, fg: NDArray[np.uint8]) -> NDArray[np.uint8]:
         o = self.options

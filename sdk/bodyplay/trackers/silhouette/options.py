@@ -28,7 +28,12 @@ class BackgroundOptions:
     blob share of the image kept; ``working_size`` the short side of the image the
     model works on (the paper: 640x480 down-sampled to 320x240); ``bootstrap``: take
     the first frame's likely figure (GrabCut) as the player until it is learned,
-    ``hold_guess`` the frames it is kept from learning while the tracker has no pose.
+    ``hold_guess`` the frames it is kept from learning while the tracker has no pose;
+    ``resolve_every``: every that many frames the unknown pixels inside the guess are
+    labelled player or background by GrabCut seeded with the learned model
+    (``resolve_iterations`` iterations; 0 turns it off and leaves them "don't care"),
+    ``guess_margin`` the pixels around the first guess that are not taken as known
+    background from the first frame.
     """
 
     threshold: float = 4.0
@@ -43,6 +48,9 @@ class BackgroundOptions:
     working_size: int = 240
     bootstrap: bool = True
     hold_guess: int = 60
+    resolve_every: int = 5
+    guess_margin: int = 3
+    resolve_iterations: int = 2
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -50,6 +58,8 @@ class BackgroundOptions:
         if self.learn_after < 1 or self.relearn_after < self.learn_after:
             raise ConfigError("background learn_after must be at least 1 frame and "
                               "relearn_after at least learn_after")
+        if self.resolve_every < 0 or self.guess_margin < 0:
+            raise ConfigError("background resolve_every and guess_margin must be >= 0")
         if self.working_size < 60:
             raise ConfigError("background working_size must be at least 60 pixels")
 
@@ -127,7 +137,11 @@ class SilhouetteOptions:
     body is dilated into the region the background model must not learn (0.04 gave
     24.6 / 24.7 cm median / worst on the tune clips, 0.12 gave 20.0 / 21.4: a wide
     margin keeps limbs the pose missed from being learned as background);
-    ``cache``: hierarchy cache folder.
+    ``body_cue``: how the body preset is chosen when ``body="auto"``: "stature"
+    (of the presets whose chosen templates' head tops are within
+    ``stature_tolerance`` m of the observed head top, median over the frames, of
+    the best match, the one of smallest mean distance) or "distance" (smallest mean
+    distance alone); ``cache``: hierarchy cache folder.
     """
 
     body: str = "auto"
@@ -150,6 +164,8 @@ class SilhouetteOptions:
     bootstrap_time: float = 1.0
     smooth: float = 0.5
     protect_radius: float = 0.12
+    body_cue: str = "stature"
+    stature_tolerance: float = 0.05
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -161,6 +177,10 @@ class SilhouetteOptions:
             raise ConfigError("shift_search must be non-negative pixel counts")
         if not 0 < self.keep < 1 or min(self.max_expand) < 1:
             raise ConfigError("keep must be in (0, 1) and max_expand at least 1")
+        if self.body_cue not in ("stature", "distance"):
+            raise ConfigError(f"body_cue must be 'stature' or 'distance', got {self.body_cue!r}")
+        if self.stature_tolerance < 0:
+            raise ConfigError("stature_tolerance must be >= 0 metres")
         if not 0 <= self.protect_radius < 1:
             raise ConfigError("protect_radius must be a share of the image height in [0, 1)")
         if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:

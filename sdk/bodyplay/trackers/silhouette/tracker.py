@@ -6,9 +6,11 @@ point G and the window (:mod:`.window`) -> distance transforms at the three leve
 (:mod:`.treefilter`) -> the MAP leaf's pose, placed at G and turned by the line of
 sight. The estimated body, dilated, keeps the background model from learning the
 player. Body size: the first ``select_frames`` frames with a person run a filter
-per body preset; the one with the smallest mean distance is kept (a player's
-stature read from the top of the silhouette was tried: raised arms and the first
-frame's guess make it read tall).
+per body preset; each frame, the head top of each preset's chosen template (the
+highest template row in the window's middle columns) is compared with the
+observed one: the presets within ``stature_tolerance`` of the best median match
+are candidates and the one of smallest mean distance among them is kept (the
+distance alone favours large presets, and differs by a few percent between them).
 
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
@@ -53,6 +55,15 @@ for _p, _names in enumerate(PART_JOINTS):
         _JOINT_PART[JOINT_INDEX[_n]] = _p
 
 
+def _head_top(mask: NDArray[np.uint8], half: float = 0.03) -> float | None:
+    """The highest silhouette row in the window's middle columns (the head above the
+    floor point, ``half`` of the width either side), None when empty."""
+    w = mask.shape[1]
+    a, b = int(round(w * (0.5 - half))), int(round(w * (0.5 + half))) + 1
+    rows = np.flatnonzero(np.asarray(mask)[:, a:b].any(axis=1))
+    return float(rows[0]) if rows.size else None
+
+
 @dataclass
 class _Last:
     joints: NDArray[np.float64]
@@ -95,6 +106,7 @@ class SilhouetteTracker:
                          for b in names}
         self._body: str | None = names[0] if len(names) == 1 else None
         self._scores: dict[str, list[float]] = {b: [] for b in names}
+        self._tops: dict[str, list[float]] = {b: [] for b in names}
         self._last: _Last | None = None
         self._t: float | None = None
         self._bad = 0
@@ -151,7 +163,7 @@ class SilhouetteTracker:
         maps = tuple(distance_maps(win.foreground[lv], win.unknown[lv]) for lv in range(3))
         stages["distances"] = time.perf_counter() - tic
         tic = time.perf_counter()
-        step = self._filter_step(maps)  # type: ignore[arg-type]
+        step = self._filter_step(maps, win.foreground[2])  # type: ignore[arg-type]
         stages["tree"] = time.perf_counter() - tic
         if step.distance > 4.0 * self.tree.options.thresholds[2]:
             self._bad += 1
@@ -181,13 +193,19 @@ class SilhouetteTracker:
         wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
         return bool(tall >= self.options.min_height and wide < 0.97)
 
-    def _filter_step(self, maps: tuple[object, ...]) -> FilterStep:
+    def _filter_step(self, maps: tuple[object, ...], observed: NDArray[np.uint8]) -> FilterStep:
         if self._body is not None:
             return self._filters[self._body].step(maps)  # type: ignore[arg-type]
         steps = {}
+        top = _head_top(observed)
         for b, f in self._filters.items():
             steps[b] = f.step(maps)  # type: ignore[arg-type]
             self._scores[b].append(steps[b].distance)
+            if self.options.body_cue == "stature" and top is not None:
+                mask = self.tree.bodies[b].runs[2].masks(np.array([steps[b].leaf]))[0]
+                t = _head_top(mask)
+                if t is not None:
+                    self._tops[b].append(t + steps[b].shift[1] - top)
         n = len(next(iter(self._scores.values())))
         best = self._best_body()
         if n >= self.options.select_frames:
@@ -197,8 +215,20 @@ class SilhouetteTracker:
         return steps[best]
 
     def _best_body(self) -> str:
-        """The preset of smallest mean distance so far (its MAP leaf's, per frame)."""
-        return min(self._scores, key=lambda b: float(np.mean(self._scores[b] or [np.inf])))
+        """The body preset: of those whose chosen templates' head tops match the
+        observed head top (median over the frames so far) within ``stature_tolerance``
+        metres of the best match, the one of smallest mean distance (its MAP leaf's,
+        per frame); with ``body_cue="distance"`` the smallest mean distance alone."""
+        def dist(b: str) -> float:
+            return float(np.mean(self._scores[b] or [np.inf]))
+
+        if self.options.body_cue == "stature" and all(len(v) for v in self._tops.values()):
+            off = {b: abs(float(np.median(v))) * self.geometry.mpp(2)
+                   for b, v in self._tops.items()}
+            best = min(off.values())
+            near = [b for b in off if off[b] <= best + self.options.stature_tolerance]
+            return min(near, key=dist)
+        return min(self._scores, key=dist)
 
     def _current_body(self) -> str:
         if self._body is not None:
