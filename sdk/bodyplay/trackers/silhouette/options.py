@@ -141,7 +141,12 @@ class SilhouetteOptions:
     (of the presets whose chosen templates' head tops are within
     ``stature_tolerance`` m of the observed head top, median over the frames, of
     the best match, the one of smallest mean distance) or "distance" (smallest mean
-    distance alone); ``cache``: hierarchy cache folder.
+    distance alone);
+    ``max_foot_width``/``foot_band``: the first frame's guess of the player counts
+    for the floor point only when no row of its lowest ``foot_band`` m is wider,
+    filled, than ``max_foot_width`` m (feet and shins; GrabCut can take a dark treadmill
+    or sofa under the player for the figure, which would put the player too near);
+    ``cache``: hierarchy cache folder.
     """
 
     body: str = "auto"
@@ -166,6 +171,8 @@ class SilhouetteOptions:
     protect_radius: float = 0.12
     body_cue: str = "stature"
     stature_tolerance: float = 0.05
+    max_foot_width: float = 0.6
+    foot_band: float = 0.25
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -181,6 +188,8 @@ class SilhouetteOptions:
             raise ConfigError(f"body_cue must be 'stature' or 'distance', got {self.body_cue!r}")
         if self.stature_tolerance < 0:
             raise ConfigError("stature_tolerance must be >= 0 metres")
+        if self.max_foot_width <= 0 or self.foot_band <= 0:
+            raise ConfigError("max_foot_width and foot_band must be > 0 metres")
         if not 0 <= self.protect_radius < 1:
             raise ConfigError("protect_radius must be a share of the image height in [0, 1)")
         if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:

@@ -45,7 +45,13 @@ from bodyplay.trackers.silhouette.distance import distance_maps
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
-from bodyplay.trackers.silhouette.window import ObservedWindow, _homography, observe
+from bodyplay.trackers.silhouette.window import (
+    ObservedWindow,
+    _homography,
+    feet_like,
+    observe,
+    select_person,
+)
 
 __all__ = ["SilhouetteTracker"]
 
@@ -142,18 +148,39 @@ class SilhouetteTracker:
             # a player does not back away faster than ``max_recession`` m/s
             far = self._distance + self.options.max_recession * (frames.t - self._last.t)
             cap = far if cap is None else min(cap, far)
+        # one player: the foreground components the track follows (others are dropped)
+        near = self._last.protect if self._last is not None else None
+        person = select_person(sil.foreground, near)
+        region = sil.region
+        if region is not None:  # the guess too: the part of it joined to the player
+            anchor = near if near is not None else (person > 0 if person.any() else None)
+            region = select_person(region, anchor)
+        if person.sum() != sil.foreground.sum() or region is not sil.region:
+            dropped = sil.foreground & (1 - person)
+            if region is not None:
+                region = region & (1 - dropped)
+            sil = Silhouette(person, sil.unknown | dropped, sil.scale, region)
         # the floor point: at first the lowest of what moves and of the first frame's
-        # guess of the player; once tracking, what moves, if that is a whole person
+        # guess of the player; once tracking, what moves, if that is a whole person.
+        # The guess counts only when its lowest part could be feet: a first frame's
+        # GrabCut can take a dark treadmill or sofa under the player for the figure.
         start = self._started is None or frames.t - self._started < self.options.bootstrap_time
-        win = None
+        win, ok = None, False
         if not start:
             win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
-        if (win is None or not self._plausible(win)) and sil.region is not None:
-            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap,
-                          sil.region)
+            ok = win is not None and self._plausible(win)
+        if not ok and sil.region is not None:
+            guess = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
+                            cap, sil.region)
+            if guess is not None and self._feet_like(guess):
+                win, ok = guess, self._plausible(guess)
+            elif start:
+                win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
+                              cap)
+                ok = win is not None and self._plausible(win)
         if win is not None:
             self._depths.append((frames.t, win.distance))
-        if win is None or not self._plausible(win):
+        if win is None or not ok:
             stages["window"] = time.perf_counter() - tic
             return self._absent(frames, sil, t0, stages)
         if self._started is None:
@@ -192,6 +219,11 @@ class SilhouetteTracker:
         cols = np.flatnonzero(fg.any(axis=0))
         wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
         return bool(tall >= self.options.min_height and wide < 0.97)
+
+    def _feet_like(self, win: ObservedWindow) -> bool:
+        reg = win.foreground[0] if win.region is None else win.region
+        return feet_like(reg, self.geometry.mpp(0), self.options.foot_band,
+                         self.options.max_foot_width)
 
     def _filter_step(self, maps: tuple[object, ...], observed: NDArray[np.uint8]) -> FilterStep:
         if self._body is not None:

@@ -28,7 +28,8 @@ from numpy.typing import NDArray
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.silhouette.options import LEVEL_SIZES
 
-__all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow"]
+__all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow", "select_person",
+           "feet_like"]
 
 _DOWN = np.array([0.0, -1.0, 0.0])
 
@@ -44,6 +45,50 @@ def anchor_point(mask: NDArray[np.uint8]) -> tuple[float, float] | None:
     core = d >= 0.7 * float(d.max())
     xs = np.nonzero(core)[1]
     return float(xs.mean()), float(rows[-1])
+
+
+def select_person(mask: NDArray[np.uint8], near: NDArray[np.bool_] | None,
+                  reach: float = 0.08) -> NDArray[np.uint8]:
+    """The connected components of a foreground mask that belong to the player.
+
+    With ``near`` (where the player is believed to be: the tracker's last estimate,
+    dilated) the components that touch it; without it, or when none touches it,
+    the largest component and those within ``reach`` x the mask's height of it (a
+    silhouette often breaks into a few pieces: an arm, a foot). Everything else --
+    a second person, a flickering lamp, a reflection -- is dropped, so that it can
+    neither put the floor point under it nor be matched.
+    """
+    m = (np.asarray(mask) > 0).astype(np.uint8)
+    n, lab, stats, _ = cv2.connectedComponentsWithStats(m, connectivity=8)
+    if n <= 2:
+        return m
+    keep = np.zeros(n, bool)
+    if near is not None and near.shape == m.shape:
+        keep[np.unique(lab[near & (lab > 0)])] = True
+        keep[0] = False
+    if not keep.any():
+        big = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+        r = max(1, int(reach * m.shape[0]))
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+        zone = cv2.dilate((lab == big).astype(np.uint8), k) > 0
+        keep[np.unique(lab[zone & (lab > 0)])] = True
+    return keep[lab].astype(np.uint8)
+
+
+def feet_like(mask: NDArray[np.uint8], mpp: float, band: float = 0.25,
+              max_width: float = 0.6) -> bool:
+    """Whether the bottom of a window mask could be a person's feet and shins: no
+    row of its lowest ``band`` metres is wider, filled, than ``max_width`` metres
+    (``mpp`` metres per pixel). A first frame's figure/ground guess that took the
+    treadmill, the sofa or the rug under the player for part of the figure fails
+    it (the floor point would be put under the furniture's front edge)."""
+    m = np.asarray(mask) > 0
+    rows = np.flatnonzero(m.any(axis=1))
+    if rows.size == 0:
+        return False
+    lo = rows[-1] + 1
+    part = m[max(0, lo - max(1, int(round(band / mpp)))):lo]
+    return bool(part.sum(axis=1).max() * mpp <= max_width)
 
 
 def floor_point(camera: Camera, u: float, v: float) -> NDArray[np.float64] | None:

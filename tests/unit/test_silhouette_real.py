@@ -1,0 +1,97 @@
+"""Specifications of the silhouette tracker on real footage: one player among other
+things that move, a first-frame guess that may be furniture, the Pose2Sim reference."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bodyplay.trackers.silhouette.window import feet_like, select_person
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _blob(mask: np.ndarray, r0: int, r1: int, c0: int, c1: int) -> None:
+    mask[r0:r1, c0:c1] = 1
+
+
+def test_select_person_keeps_the_largest_blob_and_its_pieces_and_drops_a_far_one() -> None:
+    m = np.zeros((240, 320), np.uint8)
+    _blob(m, 40, 200, 100, 140)   # the player
+    _blob(m, 60, 70, 143, 170)    # an arm, split off by the clean-up
+    _blob(m, 200, 230, 280, 300)  # a lamp flickering in a corner
+    out = select_person(m, None)
+    assert out[100, 120] and out[65, 160]
+    assert not out[210, 290].any()
+
+
+def test_select_person_follows_the_blob_the_track_touches_not_the_largest() -> None:
+    m = np.zeros((240, 320), np.uint8)
+    _blob(m, 40, 200, 20, 90)     # a second person, larger
+    _blob(m, 60, 200, 220, 250)   # the tracked player
+    near = np.zeros(m.shape, bool)
+    near[50:210, 210:260] = True  # where the last estimate was
+    out = select_person(m, near)
+    assert out[100, 230] and not out[100, 50]
+
+
+def test_select_person_leaves_a_single_blob_alone() -> None:
+    m = np.zeros((60, 80), np.uint8)
+    _blob(m, 10, 50, 30, 40)
+    assert np.array_equal(select_person(m, None), m)
+
+
+def test_feet_like_accepts_two_feet_and_rejects_a_treadmill_front() -> None:
+    mpp = 0.036
+    person = np.zeros((80, 60), np.uint8)
+    _blob(person, 20, 45, 25, 35)          # torso
+    _blob(person, 45, 72, 25, 29)          # legs
+    _blob(person, 45, 72, 31, 35)
+    _blob(person, 69, 72, 22, 25)          # feet
+    _blob(person, 69, 72, 35, 38)
+    assert feet_like(person, mpp)
+    furniture = person.copy()
+    for k in range(8):  # a treadmill's front corner widening upwards, as seen on cam02
+        furniture[77 - k, max(0, 30 - 3 * k - 1): 30 + 3 * k + 1] = 1
+    assert not feet_like(furniture, mpp)
+    assert not feet_like(np.zeros((80, 60), np.uint8), mpp)
+
+
+def test_pose2sim_reference_masks_and_landmarks_cover_every_frame(shared_data) -> None:  # type: ignore[no-untyped-def]
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from silhouette_real import REFERENCE, reference_masks
+
+    ref = np.load(REFERENCE)
+    for cam in ("cam01", "cam02", "cam03", "cam04"):
+        masks = reference_masks(ref, cam)
+        assert masks.shape == (100, 480, masks.shape[2]) and masks.shape[2] in (270, 272)
+        share = masks.mean(axis=(1, 2))
+        assert share.min() > 0.02 and share.max() < 0.15  # one person, every frame
+        lm = ref[f"{cam}_landmarks"]
+        assert lm.shape == (100, 33, 3) and np.isfinite(lm).all()
+
+
+@pytest.mark.slow
+def test_pose2sim_landmarks_triangulate_consistently_with_the_calibration(
+        shared_data, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bodyplay.capture.external import import_capture
+    from bodyplay.capture.sources import open_source
+    from silhouette_real import CAMS, P2S, REFERENCE, triangulate
+
+    ref = np.load(REFERENCE)
+    cams = {}
+    for c in CAMS:
+        src = open_source(import_capture(P2S, tmp_path / c, cameras=[c]))
+        assert src.cameras is not None
+        cams[c] = src.cameras[0]
+    J, px = triangulate(cams, {c: ref[f"{c}_landmarks"][:10] for c in CAMS})
+    assert px < 20.0
+    # standing on the treadmill: ankles near the floor, head 1.3-1.9 m up
+    assert np.nanmedian(J[:, 13, 1]) < 0.25 and 1.3 < np.nanmedian(J[:, 4, 1]) < 1.9
