@@ -160,24 +160,18 @@ class SilhouetteTracker:
             if region is not None:
                 region = region & (1 - dropped)
             sil = Silhouette(person, sil.unknown | dropped, sil.scale, region)
-        # the floor point: at first the lowest of what moves and of the first frame's
-        # guess of the player; once tracking, what moves, if that is a whole person.
-        # The guess counts only when its lowest part could be feet: a first frame's
-        # GrabCut can take a dark treadmill or sofa under the player for the figure.
         start = self._started is None or frames.t - self._started < self.options.bootstrap_time
-        win, ok = None, False
-        if not start:
-            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
-            ok = win is not None and self._plausible(win)
-        if not ok and sil.region is not None:
-            guess = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
-                            cap, sil.region)
-            if guess is not None and self._feet_like(guess):
-                win, ok = guess, self._plausible(guess)
-            elif start:
-                win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
-                              cap)
-                ok = win is not None and self._plausible(win)
+        win, ok = self._floor_window(sil, cap, start)
+        guessed = getattr(self.background, "player", None)
+        if ok and win is not None and guessed is not None and not self._feet_like(win):
+            # the first frame's guess, resolved as the player, took something wide under
+            # the player (a treadmill) for the body: only what moved is the player here
+            g = (guessed & (sil.foreground > 0)).astype(np.uint8)
+            if g.any():
+                moved = Silhouette(sil.foreground & (1 - g), sil.unknown | g, sil.scale, None)
+                win2, ok2 = self._floor_window(moved, cap, start)
+                if ok2:  # else what moved is not a whole person yet: keep the guess
+                    sil, win = moved, win2
         if win is not None:
             self._depths.append((frames.t, win.distance))
         if win is None or not ok:
@@ -219,6 +213,29 @@ class SilhouetteTracker:
         cols = np.flatnonzero(fg.any(axis=0))
         wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
         return bool(tall >= self.options.min_height and wide < 0.97)
+
+    def _floor_window(self, sil: Silhouette, cap: float | None, start: bool
+                      ) -> tuple[ObservedWindow | None, bool]:
+        """The window at the floor point, and whether it shows a person.
+
+        At first the lowest of what moves and of the first frame's guess of the
+        player; once tracking, what moves, if that is a whole person. The guess
+        counts only when its lowest part could be feet: a first frame's GrabCut can
+        take a dark treadmill or sofa under the player for the figure."""
+        win, ok = None, False
+        if not start:
+            win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
+            ok = win is not None and self._plausible(win)
+        if not ok and sil.region is not None:
+            guess = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
+                            cap, sil.region)
+            if guess is not None and self._feet_like(guess):
+                win, ok = guess, self._plausible(guess)
+            elif start:
+                win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale,
+                              cap)
+                ok = win is not None and self._plausible(win)
+        return win, ok
 
     def _feet_like(self, win: ObservedWindow) -> bool:
         reg = win.foreground[0] if win.region is None else win.region
