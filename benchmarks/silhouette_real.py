@@ -132,8 +132,48 @@ def iou(a: NDArray[np.bool_], b: NDArray[np.bool_]) -> float:
     return float((a & b).sum() / u) if u else float("nan")
 
 
+class Overlay:
+    """A short, small overlay video (every ``step``-th frame, long side ``size``
+    pixels, written at the source rate / ``step``) and a PNG still of one frame."""
+
+    def __init__(self, path: Path, fps: float, step: int = 2, size: int = 360,
+                 still: int | None = None) -> None:
+        self.path, self.fps, self.step, self.size, self.still = path, fps, step, size, still
+        self.writer: Any = None
+
+    def add(self, i: int, image: NDArray[np.uint8], result: Any, camera: Camera) -> None:
+        """Draw and write frame ``i`` (when it is one of the kept frames)."""
+        from bodyplay.commands.track import draw_overlay
+
+        if i % self.step and i != self.still:
+            return
+        img = draw_overlay(image, result, camera)
+        if i == self.still:
+            h, w = img.shape[:2]
+            s = 480 / max(h, w)
+            cv2.imwrite(str(self.path.with_suffix(".png")), cv2.cvtColor(
+                cv2.resize(img, (int(w * s), int(h * s)), interpolation=cv2.INTER_AREA),
+                cv2.COLOR_RGB2BGR))
+        if i % self.step:
+            return
+        h, w = img.shape[:2]
+        s = self.size / max(h, w)
+        img = cv2.resize(img, (int(w * s) // 2 * 2, int(h * s) // 2 * 2),
+                         interpolation=cv2.INTER_AREA)
+        if self.writer is None:
+            self.writer = cv2.VideoWriter(str(self.path), cv2.VideoWriter.fourcc(*"mp4v"),
+                                          self.fps / self.step, img.shape[1::-1])
+        self.writer.write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
+
+    def close(self) -> None:
+        """Finish the video."""
+        if self.writer is not None:
+            self.writer.release()
+
+
 def run_camera(cap: Path, tree: Any, options: SilhouetteOptions, ref_masks: Any,
-               truth: NDArray[np.float64] | None) -> dict[str, Any]:
+               truth: NDArray[np.float64] | None, overlay: Overlay | None = None
+               ) -> dict[str, Any]:
     """Track one camera; per-frame IoUs, joint errors, ms and CPU ms."""
     src = open_source(cap)
     assert src.cameras is not None
@@ -149,6 +189,8 @@ def run_camera(cap: Path, tree: Any, options: SilhouetteOptions, ref_masks: Any,
             cpu.append(1000 * (time.process_time() - c0))
             ms.append(r.ms)
             found += bool(r.found)
+            if overlay is not None:
+                overlay.add(i, fs.frames[0].image, r, cam)
             sil, tpl = r.extras.get("silhouette"), r.extras.get("template")
             if sil is None:
                 continue
@@ -167,6 +209,8 @@ def run_camera(cap: Path, tree: Any, options: SilhouetteOptions, ref_masks: Any,
                 e = np.linalg.norm(r.joints - truth[i], axis=1)
                 if np.isfinite(e).sum() >= 10:
                     err.append(float(np.nanmean(e)))
+    if overlay is not None:
+        overlay.close()
     return {"obs": np.array(obs), "ref": np.array(ref), "err": np.array(err), "ms": np.array(ms),
             "cpu": np.array(cpu), "found": found, "frames": n, "body": tracker.body_name}
 
@@ -178,7 +222,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--cams", default=",".join(CAMS))
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a SilhouetteOptions field, as for `bodyplay track --set`")
+    p.add_argument("--overlays", help="folder for the overlay videos and stills (cam01 and "
+                   "the Sports2D clip): silhouette_pose2sim.mp4/.png, silhouette_sports2d.mp4/.png")
     args = p.parse_args(argv)
+    out = Path(args.overlays) if args.overlays else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
     if not P2S.is_dir():
         print(f"no Pose2Sim recording at {P2S}")
         return 1
@@ -205,7 +254,9 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---|---|---|---|---|")
     for c in args.cams.split(","):
         masks = reference_masks(ref, c) if ref is not None else None
-        res = run_camera(caps[c], tree, options, masks, truth)
+        ov = (Overlay(out / "silhouette_pose2sim.mp4", 60.0, still=60)
+              if out is not None and c == "cam01" else None)
+        res = run_camera(caps[c], tree, options, masks, truth, ov)
 
         def mw(a: NDArray[np.float64], scale: float = 1.0, worst: str = "min") -> str:
             a = a[np.isfinite(a)]
@@ -217,6 +268,16 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {c} | {res['found']}/{res['frames']} | {mw(res['obs'])} | {mw(res['ref'])} | "
               f"{mw(res['err'], 100, 'max')} | {np.median(res['ms'][1:]):.0f} / "
               f"{np.median(res['cpu'][1:]):.0f} | {res['body']} |", flush=True)
+    s2d = DATA / "video" / "sports2d"
+    if s2d.is_dir():
+        cap = Path(import_capture(s2d, work / "sports2d", cameras=None))
+        ov = Overlay(out / "silhouette_sports2d.mp4", 30.0, still=150) if out else None
+        res = run_camera(cap, tree, options, None, None, ov)
+        print(f"\nSports2D (1768x994, 230 frames, walker about 10 m away): a pose in "
+              f"{res['found']}/{res['frames']} frames, IoU with the observed silhouette "
+              f"median {np.nanmedian(res['obs']) if len(res['obs']) else float('nan'):.2f}, "
+              f"{np.median(res['ms'][1:]):.0f} ms / {np.median(res['cpu'][1:]):.0f} ms CPU "
+              f"per frame, body {res['body']}")
     return 0
 
 

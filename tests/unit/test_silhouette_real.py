@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bodyplay.trackers.silhouette.window import feet_like, select_person
+from bodyplay.trackers.silhouette.window import farthest_person, feet_like, select_person
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -95,3 +95,31 @@ def test_pose2sim_landmarks_triangulate_consistently_with_the_calibration(
     assert px < 20.0
     # standing on the treadmill: ankles near the floor, head 1.3-1.9 m up
     assert np.nanmedian(J[:, 13, 1]) < 0.25 and 1.3 < np.nanmedian(J[:, 4, 1]) < 1.9
+
+
+def test_farthest_person_follows_the_focal_length_and_resolution() -> None:
+    from bodyplay.capture.camera import Camera
+
+    webcam = Camera.from_fov("cam0", 640, 480, hfov_deg=60.0)
+    d = farthest_person(webcam, 240, 80.0)
+    assert 5.0 < d < 7.0  # the old fixed 6 m for the synthetic captures' camera
+    tele = Camera.from_fov("cam0", 1768, 994, hfov_deg=38.6)  # Sports2D's f of 2520 px
+    assert farthest_person(tele, 240, 80.0) > 11.0  # its walker is about 10 m away
+    assert farthest_person(webcam, 240, 40.0) == pytest.approx(2 * d)
+
+
+def test_max_distance_zero_means_from_the_calibration_and_negative_is_rejected() -> None:
+    from bodyplay.errors import ConfigError
+    from bodyplay.trackers.silhouette import SilhouetteOptions
+
+    assert SilhouetteOptions().max_distance == 0.0
+    with pytest.raises(ConfigError, match="max_distance"):
+        SilhouetteOptions(max_distance=-1.0)
+
+
+def test_select_person_prefers_a_blob_standing_on_the_floor_to_a_larger_one_in_the_sky() -> None:
+    m = np.zeros((240, 427), np.uint8)
+    _blob(m, 5, 60, 40, 160)      # a patch of sky a first-frame guess took for the figure
+    _blob(m, 120, 220, 300, 330)  # the walker
+    out = select_person(m, None, stands=lambda blob: bool(np.nonzero(blob)[0].max() > 150))
+    assert out[200, 310] and not out[30, 100]

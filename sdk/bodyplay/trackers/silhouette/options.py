@@ -127,6 +127,10 @@ class SilhouetteOptions:
     before every joint is reported lost (before, the prediction is reported
     ``inferred``); ``min_height``/``max_distance``: a silhouette shorter, or a floor
     point farther from the camera (m), is not a person (the automatic start);
+    ``max_distance`` 0 (the default) takes it from the calibration: the distance at
+    which a person 1.7 m tall is ``min_person_px`` pixels tall in the background
+    model's working image (about 6 m for a 640x480 webcam of 60 degrees, 13 m for
+    the Sports2D clip's camera; was a fixed 6 m);
     ``depth_window``: seconds over which the nearest floor distance
     is kept (jumps lift the feet); ``smooth``: share of the previous joints kept
     (exponential smoothing of the discrete templates); ``max_recession``: m/s the
@@ -162,7 +166,8 @@ class SilhouetteOptions:
     uniform: float = 0.02
     select_frames: int = 45
     min_height: float = 0.9
-    max_distance: float = 6.0
+    max_distance: float = 0.0
+    min_person_px: float = 80.0
     lost_after: float = 0.5
     depth_window: float = 0.4
     max_recession: float = 0.5
@@ -188,6 +193,9 @@ class SilhouetteOptions:
             raise ConfigError(f"body_cue must be 'stature' or 'distance', got {self.body_cue!r}")
         if self.stature_tolerance < 0:
             raise ConfigError("stature_tolerance must be >= 0 metres")
+        if self.max_distance < 0 or self.min_person_px <= 0:
+            raise ConfigError("max_distance must be >= 0 metres (0: from the calibration) "
+                              "and min_person_px > 0")
         if self.max_foot_width <= 0 or self.foot_band <= 0:
             raise ConfigError("max_foot_width and foot_band must be > 0 metres")
         if not 0 <= self.protect_radius < 1:

@@ -21,6 +21,7 @@ has vanished for less than ``lost_after`` seconds (the issue's "predicted"),
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import cv2
@@ -48,7 +49,9 @@ from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
     _homography,
+    farthest_person,
     feet_like,
+    floor_point,
     observe,
     select_person,
 )
@@ -96,6 +99,8 @@ class SilhouetteTracker:
         self._maps = cameras[0].undistort_maps()
         self._cam = cameras[0]
         self._template_R = self.geometry.template_view(2).R
+        self.max_distance = options.max_distance or farthest_person(
+            self._cam, options.background.working_size, options.min_person_px)
         self.reset()
 
     @property
@@ -150,11 +155,12 @@ class SilhouetteTracker:
             cap = far if cap is None else min(cap, far)
         # one player: the foreground components the track follows (others are dropped)
         near = self._last.protect if self._last is not None else None
-        person = select_person(sil.foreground, near)
+        stands = self._stands_factory(sil.scale)
+        person = select_person(sil.foreground, near, stands=stands)
         region = sil.region
         if region is not None:  # the guess too: the part of it joined to the player
             anchor = near if near is not None else (person > 0 if person.any() else None)
-            region = select_person(region, anchor)
+            region = select_person(region, anchor, stands=stands)
         if person.sum() != sil.foreground.sum() or region is not sil.region:
             dropped = sil.foreground & (1 - person)
             if region is not None:
@@ -163,16 +169,19 @@ class SilhouetteTracker:
         start = self._started is None or frames.t - self._started < self.options.bootstrap_time
         win, ok = self._floor_window(sil, cap, start)
         guessed = getattr(self.background, "player", None)
+        floor_ok = True
         if ok and win is not None and guessed is not None and not self._feet_like(win):
             # the first frame's guess, resolved as the player, took something wide under
             # the player (a treadmill) for the body: only what moved is the player here
+            # (and the wide base's front edge is no floor contact to remember)
+            floor_ok = False
             g = (guessed & (sil.foreground > 0)).astype(np.uint8)
             if g.any():
                 moved = Silhouette(sil.foreground & (1 - g), sil.unknown | g, sil.scale, None)
                 win2, ok2 = self._floor_window(moved, cap, start)
                 if ok2:  # else what moved is not a whole person yet: keep the guess
-                    sil, win = moved, win2
-        if win is not None:
+                    sil, win, floor_ok = moved, win2, True
+        if win is not None and floor_ok:
             self._depths.append((frames.t, win.distance))
         if win is None or not ok:
             stages["window"] = time.perf_counter() - tic
@@ -202,8 +211,8 @@ class SilhouetteTracker:
 
     def _plausible(self, win: ObservedWindow) -> bool:
         """A person: at least ``min_height`` tall, not wider than the window, standing
-        within ``max_distance`` of the camera."""
-        if win.distance > self.options.max_distance:
+        within ``max_distance`` of the camera (:attr:`max_distance`)."""
+        if win.distance > self.max_distance:
             return False
         fg = win.foreground[0] if win.region is None else win.region
         rows = np.flatnonzero(fg.any(axis=1))
@@ -214,6 +223,25 @@ class SilhouetteTracker:
         wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
         return bool(tall >= self.options.min_height and wide < 0.97)
 
+    def _stands_factory(self, scale: float) -> Callable[[NDArray[np.bool_]], bool]:
+        """Whether a blob of the working image stands on the floor in view: the ray
+        through its lowest pixel (under its mean column) meets the floor between
+        0.3 m and ``max_distance`` from the camera."""
+
+        def stands(blob: NDArray[np.bool_]) -> bool:
+            ys, xs = np.nonzero(blob)
+            if ys.size == 0:
+                return False
+            u = (float(xs.mean()) + 0.5) / scale - 0.5
+            v = (float(ys.max()) + 0.5) / scale - 0.5
+            g = floor_point(self._cam, u, v)
+            if g is None:
+                return False
+            d = float(np.hypot(*(g - self._cam.center)[[0, 2]]))
+            return 0.3 <= d <= self.max_distance
+
+        return stands
+
     def _floor_window(self, sil: Silhouette, cap: float | None, start: bool
                       ) -> tuple[ObservedWindow | None, bool]:
         """The window at the floor point, and whether it shows a person.
@@ -223,7 +251,7 @@ class SilhouetteTracker:
         counts only when its lowest part could be feet: a first frame's GrabCut can
         take a dark treadmill or sofa under the player for the figure."""
         win, ok = None, False
-        if not start:
+        if not start or sil.region is None:
             win = observe(self.geometry, self._cam, sil.foreground, sil.unknown, sil.scale, cap)
             ok = win is not None and self._plausible(win)
         if not ok and sil.region is not None:

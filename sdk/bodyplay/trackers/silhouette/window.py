@@ -19,6 +19,7 @@ refined once in the window (feet on the floor).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
@@ -29,7 +30,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.trackers.silhouette.options import LEVEL_SIZES
 
 __all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow", "select_person",
-           "feet_like"]
+           "feet_like", "farthest_person"]
 
 _DOWN = np.array([0.0, -1.0, 0.0])
 
@@ -48,14 +49,18 @@ def anchor_point(mask: NDArray[np.uint8]) -> tuple[float, float] | None:
 
 
 def select_person(mask: NDArray[np.uint8], near: NDArray[np.bool_] | None,
-                  reach: float = 0.08) -> NDArray[np.uint8]:
+                  reach: float = 0.08,
+                  stands: Callable[[NDArray[np.bool_]], bool] | None = None
+                  ) -> NDArray[np.uint8]:
     """The connected components of a foreground mask that belong to the player.
 
     With ``near`` (where the player is believed to be: the tracker's last estimate,
     dilated) the components that touch it; without it, or when none touches it,
-    the largest component and those within ``reach`` x the mask's height of it (a
-    silhouette often breaks into a few pieces: an arm, a foot). Everything else --
-    a second person, a flickering lamp, a reflection -- is dropped, so that it can
+    the largest component -- of those ``stands`` accepts (a person standing on the
+    floor in view), when it accepts any -- and those within ``reach`` x the mask's
+    height of it (a silhouette often breaks into a few pieces: an arm, a foot).
+    Everything else -- a second person, a flickering lamp, a reflection, a patch of
+    sky a first-frame guess took for the figure -- is dropped, so that it can
     neither put the floor point under it nor be matched.
     """
     m = (np.asarray(mask) > 0).astype(np.uint8)
@@ -67,7 +72,10 @@ def select_person(mask: NDArray[np.uint8], near: NDArray[np.bool_] | None,
         keep[np.unique(lab[near & (lab > 0)])] = True
         keep[0] = False
     if not keep.any():
-        big = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+        order = 1 + np.argsort(-stats[1:, cv2.CC_STAT_AREA], kind="stable")
+        big = int(order[0])
+        if stands is not None:
+            big = next((int(k) for k in order[:8] if stands(lab == k)), big)
         r = max(1, int(reach * m.shape[0]))
         k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
         zone = cv2.dilate((lab == big).astype(np.uint8), k) > 0
@@ -89,6 +97,19 @@ def feet_like(mask: NDArray[np.uint8], mpp: float, band: float = 0.25,
     lo = rows[-1] + 1
     part = m[max(0, lo - max(1, int(round(band / mpp)))):lo]
     return bool(part.sum(axis=1).max() * mpp <= max_width)
+
+
+def farthest_person(camera: Camera, working_size: int, min_px: float,
+                    stature: float = 1.7) -> float:
+    """How far (m) a person of ``stature`` can stand and still be ``min_px`` pixels
+    tall in the background model's working image (short side ``working_size``): the
+    farthest a player can be matched without the windows being mostly
+    interpolation. It follows the camera's focal length and resolution, so a wide
+    640x480 webcam gets about 6 m and a telephoto HD camera filming a walker across
+    a field gets more."""
+    scale = min(1.0, working_size / min(camera.width, camera.height))
+    f = 0.5 * (camera.K[0, 0] + camera.K[1, 1]) * scale
+    return float(f * stature / max(min_px, 1.0))
 
 
 def floor_point(camera: Camera, u: float, v: float) -> NDArray[np.float64] | None:
