@@ -38,3 +38,33 @@ def test_silhouette_tracker_follows_a_synthetic_walk(synth_gl, tmp_path, silhoue
     assert last is not None
     with pytest.raises(TimestampError):
         tracker.process(last)
+
+
+@pytest.fixture(scope="module")
+def three_body_tree(tmp_path_factory):  # type: ignore[no-untyped-def]
+    """A small hierarchy (one short CMU clip) rendered for three body presets."""
+    from bodyplay.trackers.silhouette import HierarchyOptions, load_or_build_tree
+
+    opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.05,
+                            bodies=("xs", "m", "xl"), thresholds=(0.06, 0.04, 0.03),
+                            max_poses=400)
+    return load_or_build_tree(opts, tmp_path_factory.mktemp("silhouette_cache3"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("body", ["xs", "xl"])
+def test_automatic_body_choice_picks_the_actors_preset(synth_gl, tmp_path, three_body_tree,
+                                                       body):
+    # the player in view from the first frame; the distance alone picked xl for every
+    # actor before (unknown pixels near the player were free to a larger template)
+    out = tmp_path / "cap"
+    assert main(["synth", "--clip", "131_01", "--frames", "60", "--body", body,
+                 "--out", str(out)]) == 0
+    src = open_source(out)
+    assert src.cameras is not None
+    tracker = create_silhouette_tracker(SilhouetteOptions(select_frames=30), src.cameras[:1],
+                                        tree=three_body_tree)
+    with src:
+        for fs in src:
+            tracker.process(fs)
+    assert tracker.body_name == body

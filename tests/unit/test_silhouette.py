@@ -66,6 +66,18 @@ def test_background_finds_a_player_who_stands_still_but_for_an_arm() -> None:
     assert sil.unknown[75:210, 30:200].sum() == 0  # nothing left "don't care" there
 
 
+def test_background_without_a_first_guess_resolves_nothing() -> None:
+    # no GrabCut guess of the player (here turned off): the pixels not seen to change
+    # stay unknown ("don't care") instead of being labelled the player
+    room = _room(np.random.default_rng(3))
+    model = BackgroundModel(BackgroundOptions(bootstrap=False))
+    for i in range(30):
+        x = 200 + 4 * i
+        sil = model.apply(_with_player(room, x))
+    assert model.player is None
+    assert sil.foreground.mean() < 0.15  # the player, and its first-frame copy, at most
+
+
 def test_background_empty_room_start_makes_every_pixel_known() -> None:
     room = _room(np.random.default_rng(1))
     model = BackgroundModel(BackgroundOptions(learn_after=5))

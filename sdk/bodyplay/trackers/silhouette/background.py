@@ -190,6 +190,7 @@ class BackgroundModel:
         self.occupied: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self.player: NDArray[np.bool_] | None = None
         self._ghost: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self._resolving = False
         self._frames = 0
 
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
@@ -225,7 +226,9 @@ class BackgroundModel:
                              else np.zeros(x.shape[:2], bool))
             self._was_diff = np.zeros(x.shape[:2], bool)
             self.player = None
-            if o.resolve_every and self.occupied.any():
+            # without a first guess there is nothing to resolve: unknown stays "don't care"
+            self._resolving = bool(o.resolve_every and self.occupied.any())
+            if self._resolving:
                 # outside the first frame's guess, what the camera sees is the background
                 r = o.guess_margin
                 k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
@@ -238,7 +241,7 @@ class BackgroundModel:
                   np.float32(o.intensity_weight**2), np.float32(o.threshold**2),
                   np.float32((2.5 * o.min_std) ** 2 * 3.0), differs, moved)
         self._prev = x
-        if (o.resolve_every and self._frames % o.resolve_every == 0
+        if (self._resolving and self._frames % o.resolve_every == 0
                 and not self.known.all()):
             self._resolve(image, x.shape[1::-1], differs)
         shown: NDArray[np.uint8] = differs
