@@ -203,9 +203,10 @@ def test_plate_mask_leaves_the_room_beside_the_shirt_unclassified_after_a_lead_i
     from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
 
     share = {}
-    for plate_mask in (True, False):
+    for plate_mask, room_plate in ((True, False), (False, False), (False, True)):
         opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
-                                 body="m_slim", arm_selection_frames=0, plate_mask=plate_mask)
+                                 body="m_slim", arm_selection_frames=0, plate_mask=plate_mask,
+                                 room_plate=room_plate)
         src = open_source(lead_in_capture)
         assert src.cameras is not None
         tracker = create_colorshirt_tracker(opts, src.cameras)
@@ -216,10 +217,14 @@ def test_plate_mask_leaves_the_room_beside_the_shirt_unclassified_after_a_lead_i
                     masked += [float(v.mask.mean()) for v, _, _ in
                                tracker.diagnostics["observed"] if v.mask is not None]
         assert len(masked) >= 40
-        share[plate_mask] = float(np.median(masked))
+        share["plate" if plate_mask else "room" if room_plate else "mog2"] = float(
+            np.median(masked))
     # MOG2 keeps the player's last box as foreground: most of the crop (0.77 here);
-    # the plate keeps only the player, so the room around the shirt is out (0.33)
-    assert share[False] > 0.6 and share[True] < 0.5 * share[False], share
+    # the lead-in's plate keeps only the player, so the room around the shirt is out
+    # (0.32); the room plate learned outside the poses' grown silhouettes keeps out
+    # less (0.52: it cannot know what the player has not uncovered yet)
+    assert share["mog2"] > 0.6, share
+    assert share["plate"] < 0.5 * share["mog2"] and share["room"] < 0.75 * share["mog2"], share
 
 
 def _recording(fn: Callable[..., object], seen: list[object]) -> Callable[..., object]:

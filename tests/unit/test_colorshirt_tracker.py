@@ -172,6 +172,36 @@ def test_tracker_reports_lost_when_the_body_jumps_faster_than_a_person_moves(db)
     assert abs(later.joints[0, 0] - SK.joint_positions(moved)[0, 0]) < 0.1
 
 
+def test_tracker_takes_the_new_track_when_the_next_good_fit_agrees_with_a_rejected_one(db) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(5)
+    cams = webcam_rig(2)
+    # a gate wide enough to let the jump through to the speed check (as after the
+    # gate's time ran out while the pose reported last is still within a second)
+    tr = create_colorshirt_tracker(ColorShirtOptions(background_subtraction=False, body="m",
+                                                     room_plate=False, gate_speed=500.0),
+                                   cams, database=db)
+    q = _truth(11)
+    moved = q.copy()
+    moved[0] += 0.9
+    images = [_paint(q, cams, rng), _paint(moved, cams, rng), _paint(moved, cams, rng)]
+
+    def frame(imgs: list[np.ndarray], t: float, i: int) -> FrameSet:
+        return FrameSet(tuple(Frame(im, t, i, f"cam{k}") for k, im in enumerate(imgs)), t, i)
+
+    assert tr.process(frame(images[0], 0.0, 0)).found
+    assert not tr.process(frame(images[1], 1 / 30, 1)).found  # one jump: an outlier
+    assert tr.diagnostics.get("rejected") == "speed"
+    # a second good fit where the first jump landed: the pose before was the outlier
+    again = tr.process(frame(images[2], 2 / 30, 2))
+    assert again.found
+    assert abs(again.joints[0, 0] - SK.joint_positions(moved)[0, 0]) < 0.1
+
+
+def test_options_reject_a_room_margin_outside_zero_to_one() -> None:
+    with pytest.raises(ConfigError, match="room_margin"):
+        ColorShirtOptions(room_margin=1.5)
+
+
 def test_options_reject_a_non_positive_max_speed() -> None:
     with pytest.raises(ConfigError, match="max_speed"):
         ColorShirtOptions(max_speed=0.0)

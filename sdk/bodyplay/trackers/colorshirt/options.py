@@ -130,6 +130,16 @@ class ColorShirtOptions:
       ``plate_mask_alone_cameras`` cameras the plate's mask replaces MOG2's
       (which then only narrows the search): MOG2 absorbs an arm held still once
       one frame missed it, and with one camera no other view makes up for it.
+    * ``room_plate``: learn the room from what the player uncovers
+      (:class:`.plate.RoomPlate`: still pixels outside the reported pose's
+      silhouette, grown by ``room_margin`` times its size, after a good fit) and
+      classify only pixels unlike it or not yet learned; works when the player
+      starts in view.
+    * ``good_residual``: a fit whose patch anchors reproject within this many shirt
+      sizes on average is *good*: only good fits teach the room plate, judge the
+      body presets, and override the speed gate (two good fits in a row that agree
+      with each other take over from a pose reported before them that they are
+      too far from).
     """
 
     adaptive_white_balance: bool = True
@@ -185,6 +195,9 @@ class ColorShirtOptions:
     arm_search_one_camera: bool = True
     arm_depth_pull: float = 0.01
     plate_mask: bool = True
+    room_plate: bool = True
+    room_margin: float = 0.1
+    good_residual: float = 0.09
     plate_mask_alone_cameras: int = 1
     locate: LocateOptions = field(default_factory=LocateOptions)
 
@@ -272,6 +285,11 @@ class ColorShirtOptions:
         if not self.stature_tolerance > 0.0:
             raise ConfigError("stature_tolerance must be a positive height in metres "
                               "(default 0.1; inf lets presets of any height win)")
+        if not (np.isfinite(self.room_margin) and 0.0 <= self.room_margin <= 1.0):
+            raise ConfigError("room_margin must be within 0..1 of the silhouette's size "
+                              "(default 0.1)")
+        if not (np.isfinite(self.good_residual) and 0.0 < self.good_residual <= 1.0):
+            raise ConfigError("good_residual must be within (0, 1] shirt sizes (default 0.09)")
         if not 0 <= self.plate_mask_alone_cameras <= 16:
             raise ConfigError("plate_mask_alone_cameras must be between 0 (always both masks) "
                               "and 16 (default 1: a one-camera rig masks with the plate alone)")

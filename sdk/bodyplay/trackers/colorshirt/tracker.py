@@ -170,6 +170,9 @@ class ColorShirtTracker:
                 st.W = np.asarray(init, dtype=np.float64)
                 st.references.add(st.W)
         self._prev: NDArray[np.float64] | None = None
+        self._ever_reported = False
+        self._unreached: tuple[float, NDArray[np.float64]] | None = None
+        """Time and root of the last fit the speed gate rejected."""
         self._last_t: float | None = None
         self._reported: tuple[float, NDArray[np.float64]] | None = None
         """Time and root position of the last pose reported (for the speed gate)."""
@@ -225,8 +228,10 @@ class ColorShirtTracker:
             image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
         reduced = None
         plate = o.floor_cue or o.head_cue
-        if o.background_subtraction or plate:
-            reduced = st.background.reduce(image)  # MOG2 and the plate share it
+        if o.background_subtraction or plate or o.room_plate:
+            reduced = st.background.reduce(image)  # MOG2 and the plates share it
+        if reduced is not None and o.room_plate:
+            st.room.start(reduced)
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
         if st.last_box is not None and o.background_subtraction:
             moved = st.background.moving(st.last_box)
@@ -239,12 +244,18 @@ class ColorShirtTracker:
             # where the shirt was a frame ago always counts as foreground
             bx0, by0, bx1, by1 = st.last_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
+        room = st.room.foreground() if o.room_plate else None
+        if room is not None:  # pixels the room plate knows as room are not the player
+            full = cv2.resize(room.astype(np.uint8), (image.shape[1], image.shape[0]),
+                              interpolation=cv2.INTER_NEAREST) > 0
+            mask = full if mask is None else mask & full
         region = None
         if st.last_box is not None:  # search near the shirt's last position first
             bx0, by0, bx1, by1 = st.last_box
             reach = _SEARCH_REACH * max(bx1 - bx0, by1 - by0)
             region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
         loc = self.locator.locate(image, mask, region)
+        st.located = loc.found
         if not loc.found:
             if plate:
                 st.floor.no_shirt()
@@ -354,6 +365,32 @@ class ColorShirtTracker:
             pad = 0.15 * max(x1 - x0, y1 - y0)
             st.last_box = (int(x0 - pad), int(y0 - pad), int(x1 + pad), int(y1 + pad))
 
+    def _learn_room(self, q: NDArray[np.float64] | None) -> None:
+        """Every camera's room plate learns what lies outside the silhouette of the
+        pose ``q`` just reported (dilated); without a pose nothing, except before the
+        first pose in a camera that found no shirt (the empty room)."""
+        if not self.options.room_plate:
+            return
+        verts = None if q is None else self.renderer.vertices(q)
+        for cam, st in zip(self.cameras, self._cams, strict=True):
+            if verts is None:
+                st.room.learn(None, everywhere=not self._ever_reported and not st.located)
+                continue
+            h, w = cam.height // _REDUCE, cam.width // _REDUCE
+            s = 0.5 / _REDUCE  # rendered at half the plate's resolution, then grown
+            win = CropWindow(0.0, 0.0, s, max(1, round(cam.width * s)),
+                             max(1, round(cam.height * s)))
+            sil = np.isfinite(self.renderer.render(verts, cam, win).depth).astype(np.uint8)
+            ys, xs = np.nonzero(sil)
+            if not len(ys):
+                st.room.learn(None)
+                continue
+            r = max(2, int(round(self.options.room_margin * max(np.ptp(ys), np.ptp(xs)))))
+            grown = cv2.dilate(sil, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
+                                                              (2 * r + 1, 2 * r + 1)))
+            person = cv2.resize(grown, (w, h), interpolation=cv2.INTER_NEAREST) > 0
+            st.room.learn(person)
+
     # ---- pose estimation -------------------------------------------------------------
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
                  rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
@@ -457,6 +494,7 @@ class ColorShirtTracker:
         self.diagnostics["floor_priors"] = self._root_priors
         if not views:
             self._prev = None
+            self._learn_room(None)
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
         fit: _Fit | None
         self._start_arm_selection()
@@ -466,6 +504,18 @@ class ColorShirtTracker:
             fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
+        if fit is not None and not within_reach(self._reported, frames.t, fit.q[:3],
+                                                self.options.max_speed):
+            if (fit.residual <= self.options.good_residual
+                    and self._unreached is not None
+                    and within_reach(self._unreached, frames.t, fit.q[:3],
+                                     self.options.max_speed)):
+                # a good fit that agrees with the last one rejected: the pose
+                # reported before them was the outlier (one wrong fit used to
+                # lock out the right ones for a whole second), take the new track
+                self._reported = None
+            else:
+                self._unreached = (frames.t, fit.q[:3].copy())
         if fit is not None and not within_reach(self._reported, frames.t, fit.q[:3],
                                                 self.options.max_speed):
             # not reported, but the pixels where its render and the classification
@@ -481,6 +531,7 @@ class ColorShirtTracker:
             self.diagnostics["body_residuals"] = self._selection.means()
         if fit is None:
             self._prev = None
+            self._learn_room(None)
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
         if self.options.adaptive_white_balance:
             for v, r in zip(fit.views, fit.rendered, strict=True):
@@ -488,6 +539,9 @@ class ColorShirtTracker:
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
         self._remember_shirt(fit.q, frames.t)
+        self._unreached = None
+        self._learn_room(fit.q if fit.residual <= self.options.good_residual else None)
+        self._ever_reported = True
         if self._depth is not None and lone is not None:
             self._depth.end(float(self.cameras[lone].world_to_camera(fit.q[:3])[2]))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)

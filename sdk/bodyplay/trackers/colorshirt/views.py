@@ -20,6 +20,7 @@ from bodyplay.body.shirt import NUM_COLORS, NUM_PATCHES, PATCHES, SHIRT_COLORS
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import FloorWatch
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
+from bodyplay.trackers.colorshirt.plate import RoomPlate
 from bodyplay.trackers.colorshirt.prediction import CropWindow
 from bodyplay.trackers.colorshirt.whitebalance import (
     ReferenceIlluminations,
@@ -72,6 +73,10 @@ class CameraState:
     gate_t: float = float("nan")
     still: int = 0
     """Frames in a row in which MOG2 saw nothing move in the tracked shirt's box."""
+    room: RoomPlate = field(default_factory=RoomPlate)
+    """The room learned from what the player uncovers (masks the classification)."""
+    located: bool = False
+    """Whether the histogram search found a shirt in this camera this frame."""
 
 
 @dataclass(eq=False)

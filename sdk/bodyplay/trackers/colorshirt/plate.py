@@ -1,0 +1,148 @@
+"""The room behind the player, learned from what the player uncovers (beyond the paper).
+
+The paper masks the classification with a background model of the empty room. A
+player who starts in view never shows the empty room, and an adaptive subtractor
+(MOG2) absorbs clutter and a player standing still alike. :class:`RoomPlate` learns
+the room instead from where the player is *not*: every pixel outside the dilated
+silhouette of the pose just reported (rendered from the body mesh) that stayed
+still over the last frames follows a per-pixel running mean, and after a few such
+frames the pixel is *known*. A known pixel that matches the plate is room; every
+other pixel (unknown, or different from the plate) may be the player.
+
+So clutter in shirt colours beside the player (a poster, clothes on a rail, fruit)
+leaves the classification as soon as the player has been seen next to it, and the
+pixels the player covers are never learned, however long they stand still. Frames
+before the first pose (an empty-room start) teach every still pixel of a camera
+that sees no shirt. A change of light scales the plate by one gain per channel,
+measured on known pixels away from the player.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["RoomPlate"]
+
+
+class RoomPlate:
+    """One camera's plate of the room at reduced resolution (see the module docstring).
+
+    Per frame: :meth:`start` with the reduced image, :meth:`foreground` for the mask,
+    then :meth:`learn` with the player's silhouette (or None with ``everywhere``
+    before the first pose). ``still`` is the summed R + G + B change from the last
+    frame under which a pixel counts as still; ``still_frames`` how many frames in a
+    row it must be still to be learned; ``known_frames`` how many learned frames make
+    it known; ``rate`` the slowest weight of a new frame in a pixel's running mean;
+    ``threshold`` the summed R + G + B difference from the plate that counts as
+    foreground in a room at least as bright as ``contrast_level`` (dimmer rooms
+    shrink it in proportion, down to 30%).
+    """
+
+    def __init__(self, still: float = 30.0, still_frames: int = 3, known_frames: int = 4,
+                 rate: float = 0.05, threshold: float = 45.0,
+                 contrast_level: float = 330.0) -> None:
+        self.still = float(still)
+        self.still_frames = int(still_frames)
+        self.known_frames = int(known_frames)
+        self.rate = float(rate)
+        self.threshold = float(threshold)
+        self.contrast_level = float(contrast_level)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the room."""
+        self._mean: NDArray[np.float32] | None = None
+        self._count: NDArray[np.uint8] | None = None
+        self._run: NDArray[np.uint8] | None = None
+        self._prev: NDArray[np.float32] | None = None
+        self._small: NDArray[np.float32] | None = None
+        self._away: NDArray[np.bool_] | None = None
+        """Pixels away from the player at the last :meth:`learn` (the light's gain is
+        measured there)."""
+
+    @property
+    def known(self) -> NDArray[np.bool_] | None:
+        """Pixels learned often enough to be trusted (None before any frame)."""
+        if self._count is None:
+            return None
+        return self._count >= self.known_frames
+
+    def known_fraction(self) -> float:
+        """Share of the frame's pixels that are known."""
+        k = self.known
+        return 0.0 if k is None else float(k.mean())
+
+    def start(self, small: NDArray[np.uint8] | NDArray[np.float32]) -> None:
+        """A new frame at the plate's resolution (RGB); the plate follows the light."""
+        f = np.asarray(small, np.float32)
+        if self._mean is None or self._mean.shape != f.shape:
+            h, w = f.shape[:2]
+            self._mean = f.copy()
+            self._count = np.zeros((h, w), np.uint8)
+            self._run = np.zeros((h, w), np.uint8)
+            self._prev = f
+            self._away = None
+        self._small = f
+        known = self.known
+        assert known is not None
+        sel = known if self._away is None else known & self._away
+        sel = sel[::3, ::3]
+        if int(np.count_nonzero(sel)) > 100:
+            # the median ratio: robust to a player standing where no pose says yet
+            ratio = f[::3, ::3][sel] / np.maximum(self._mean[::3, ::3][sel], 1.0)
+            gain = np.clip(np.median(ratio, axis=0), 0.05, 20.0).astype(np.float32)
+            if np.any(np.abs(gain - 1.0) > 0.01):
+                self._mean *= gain
+
+    def foreground(self) -> NDArray[np.bool_] | None:
+        """This frame's pixels that may be the player: unknown, or unlike the plate.
+        None while nothing is known (no mask)."""
+        if self._small is None or self._mean is None:
+            return None
+        known = self.known
+        assert known is not None
+        if not known.any():
+            return None
+        level = float(np.sum(cv2.mean(self._mean)[:3]))
+        threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
+        diff = cv2.transform(cv2.absdiff(self._small, self._mean), np.ones((1, 3), np.float32))
+        room = known & (diff <= threshold)
+        room = cv2.morphologyEx(room.astype(np.uint8), cv2.MORPH_OPEN,
+                                np.ones((3, 3), np.uint8)) > 0
+        return ~room
+
+    def learn(self, person: NDArray[np.bool_] | None, everywhere: bool = False) -> None:
+        """Learn this frame's still pixels outside ``person`` (plate resolution; None:
+        no pose this frame, so nothing is learned unless ``everywhere``, as before the
+        first pose in a camera that sees no shirt)."""
+        f, prev = self._small, self._prev
+        if f is None or prev is None or self._mean is None:
+            return
+        assert self._count is not None and self._run is not None
+        change = cv2.transform(cv2.absdiff(f, prev), np.ones((1, 3), np.float32))
+        still = change < self.still
+        self._run = np.where(still, np.minimum(self._run.astype(np.int32) + 1, 255),
+                             0).astype(np.uint8)
+        self._prev = f
+        known = self._count >= self.known_frames
+        if float(np.mean(~still[known])) < 0.5 if known.any() else True:
+            # what moves is not the room: a pixel learned while the player stood still
+            # (or under a wrong pose) is forgotten as soon as it moves; a change of
+            # most of the room at once is the light, not motion
+            self._count[~still] = 0
+        if person is None and not everywhere:
+            self._away = None
+            return
+        away = np.ones(still.shape, bool) if person is None else ~person
+        self._away = away
+        learn = away & (self._run >= self.still_frames)
+        if not learn.any():
+            return
+        count = self._count.astype(np.float32)
+        alpha = np.maximum(1.0 / (count + 1.0), self.rate)[..., None]
+        upd = self._mean + alpha * (f - self._mean)
+        self._mean = np.where(learn[..., None], upd, self._mean).astype(np.float32)
+        self._count = np.where(learn, np.minimum(self._count.astype(np.int32) + 1, 255),
+                               self._count).astype(np.uint8)

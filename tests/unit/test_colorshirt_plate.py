@@ -1,0 +1,76 @@
+"""The room plate learned from what the player uncovers (colorshirt/plate.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bodyplay.trackers.colorshirt.plate import RoomPlate
+
+H, W = 60, 80
+
+
+def _room(seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    room = np.zeros((H, W, 3), np.float32)
+    room[:] = (150, 140, 120)
+    room[10:30, 50:70] = (30, 60, 220)  # a blue poster
+    return room + rng.normal(0, 2, room.shape).astype(np.float32)
+
+
+def _player(room: np.ndarray, x: int) -> tuple[np.ndarray, np.ndarray]:
+    frame = room.copy()
+    frame[15:50, x:x + 12] = (240, 120, 20)  # an orange shirt
+    person = np.zeros((H, W), bool)
+    person[12:53, x - 3:x + 15] = True  # the pose's silhouette, grown
+    return frame, person
+
+
+def test_room_plate_learns_the_room_the_player_uncovers_and_masks_it() -> None:
+    plate, room = RoomPlate(), _room()
+    for k in range(30):
+        x = 54 - (k // 6) * 9  # starts in front of the poster, then steps away
+        frame, person = _player(room, x)
+        plate.start(frame)
+        plate.learn(person)
+    fg = plate.foreground()
+    assert fg is not None
+    assert not fg[10:30, 52:68].any()  # the poster the player stood in front of is room
+    assert fg[20:45, x + 2:x + 10].all()  # the player is not
+    assert plate.known_fraction() > 0.6
+
+
+def test_room_plate_never_learns_a_player_who_stands_still() -> None:
+    plate, room = RoomPlate(), _room()
+    frame, person = _player(room, 30)
+    for _ in range(60):
+        plate.start(frame)
+        plate.learn(person)
+    fg = plate.foreground()
+    assert fg is not None and fg[15:50, 30:42].all()
+
+
+def test_room_plate_forgets_what_moves_and_gives_no_mask_before_it_knows_anything() -> None:
+    plate, room = RoomPlate(), _room()
+    plate.start(room)
+    assert plate.foreground() is None
+    for _ in range(10):
+        plate.start(room)
+        plate.learn(None, everywhere=True)  # an empty room before the first pose
+    known = plate.known
+    assert known is not None and known.all()
+    frame, _ = _player(room, 30)  # the player walks in where no pose covers them yet
+    plate.start(frame)
+    plate.learn(None)
+    known = plate.known
+    assert known is not None and not known[15:50, 30:42].any() and known[:, :20].all()
+
+
+def test_room_plate_follows_a_lamp_switched_off() -> None:
+    plate, room = RoomPlate(), _room()
+    for _ in range(10):
+        plate.start(room)
+        plate.learn(None, everywhere=True)
+    dim = room * np.float32(0.55)
+    plate.start(dim)
+    fg = plate.foreground()
+    assert fg is not None and fg.mean() < 0.05
