@@ -7,8 +7,8 @@ point G and the window (:mod:`.window`) -> distance transforms at the three leve
 sight. The estimated body, dilated, keeps the background model from learning the
 player. Body size: the first ``select_frames`` frames with a person run a filter
 per body preset; each frame, the head top of each preset's chosen template (the
-highest template row in the window's middle columns) is compared with the
-observed one: the presets within ``stature_tolerance`` of the best median match
+highest template row in the window's middle columns, less the mesh's shortfall
+against the preset's stature) is compared with the observed one: the presets within ``stature_tolerance`` of the best median match
 are candidates and the one of smallest mean distance among them is kept (the
 distance alone favours large presets, and differs by a few percent between them).
 
@@ -30,6 +30,8 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
+from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shapes import body_shape
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -125,6 +127,7 @@ class SilhouetteTracker:
         self._distance: float | None = None
         self._started: float | None = None
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
+        self._short: dict[str, float] = {}
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -282,7 +285,7 @@ class SilhouetteTracker:
                 mask = self.tree.bodies[b].runs[2].masks(np.array([steps[b].leaf]))[0]
                 t = _head_top(mask)
                 if t is not None:
-                    self._tops[b].append(t + steps[b].shift[1] - top)
+                    self._tops[b].append(t + steps[b].shift[1] - top - self._shortfall(b))
         n = len(next(iter(self._scores.values())))
         best = self._best_body()
         if n >= self.options.select_frames:
@@ -290,6 +293,16 @@ class SilhouetteTracker:
             self._filters = {best: self._filters[best]}
             self._skeletons = {best: self._skeletons[best]}
         return steps[best]
+
+    def _shortfall(self, body: str) -> float:
+        """How far (level-3 window pixels) the top of the body's template mesh, standing,
+        lies below the preset's stature: the head top is compared with the player's
+        stature, which the presets are named by, not with the mesh's."""
+        if body not in self._short:
+            sk = self._skeletons[body]
+            top = float(body_mesh(sk).rest_vertices[:, 1].max())
+            self._short[body] = (body_shape(body).height - top) / self.geometry.mpp(2)
+        return self._short[body]
 
     def _best_body(self) -> str:
         """The body preset: of those whose chosen templates' head tops match the
