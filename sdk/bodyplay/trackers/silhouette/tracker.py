@@ -8,9 +8,10 @@ sight. The estimated body, dilated, keeps the background model from learning the
 player. Body size: the first ``select_frames`` frames with a person run a filter
 per body preset; each frame, the head top of each preset's chosen template (the
 highest template row in the window's middle columns, less the mesh's shortfall
-against the preset's stature) is compared with the observed one: the presets within ``stature_tolerance`` of the best median match
-are candidates and the one of smallest mean distance among them is kept (the
-distance alone favours large presets, and differs by a few percent between them).
+against the preset's stature) is compared with the observed one: the presets
+within ``stature_tolerance`` of the best median match are candidates and the one
+of smallest mean distance among them is kept (the distance alone favoured large
+presets, and differs by a few percent between them).
 
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
