@@ -123,3 +123,24 @@ def test_select_person_prefers_a_blob_standing_on_the_floor_to_a_larger_one_in_t
     _blob(m, 120, 220, 300, 330)  # the walker
     out = select_person(m, None, stands=lambda blob: bool(np.nonzero(blob)[0].max() > 150))
     assert out[200, 310] and not out[30, 100]
+
+
+def test_background_drop_guess_stops_resolving_the_first_frame_guess() -> None:
+    from bodyplay.trackers.silhouette.background import BackgroundModel
+
+    rng = np.random.default_rng(3)
+    base = rng.integers(40, 220, (60, 80, 3)).astype(np.uint8)
+    room = np.kron(base, np.ones((8, 8, 1), np.uint8))
+    room[200:470, 250:400] = (30, 30, 35)  # a dark treadmill-like block, still for ever
+    model = BackgroundModel()
+    for k in range(12):
+        img = room.copy()
+        img[120:420, 300 + 4 * k: 360 + 4 * k] = (200, 150, 120)  # the player moving
+        model.apply(img)
+    model.drop_guess()
+    for k in range(12, 24):
+        img = room.copy()
+        img[120:420, 300 + 4 * k: 360 + 4 * k] = (200, 150, 120)
+        sil = model.apply(img)
+    assert model.player is None
+    assert sil.foreground.shape == sil.unknown.shape

@@ -193,6 +193,14 @@ class BackgroundModel:
         self._resolving = False
         self._frames = 0
 
+    def drop_guess(self) -> None:
+        """The tracker found the first frame's guess wrong (it took a treadmill or a
+        sofa under the player for the body): stop resolving it; its unknown pixels
+        go back to "don't care" and are learned like any unknown pixel."""
+        self._resolving = False
+        self.player = None
+        self._ghost = np.zeros((0, 0), bool)
+
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
         if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
             raise CaptureError(f"background model needs (H, W, 3) uint8 RGB frames, got "

@@ -177,17 +177,19 @@ class SilhouetteTracker:
         if ok and win is not None and guessed is not None and not self._feet_like(win):
             # the first frame's guess, resolved as the player, took something wide under
             # the player (a treadmill) for the body: only what moved is the player here
-            # (and the wide base's front edge is no floor contact to remember)
+            # (the wide base's front edge is no floor contact: until what moved is a
+            # whole person, there is no pose)
             floor_ok = False
+            self.background.drop_guess()
             g = (guessed & (sil.foreground > 0)).astype(np.uint8)
             if g.any():
                 moved = Silhouette(sil.foreground & (1 - g), sil.unknown | g, sil.scale, None)
                 win2, ok2 = self._floor_window(moved, cap, start)
-                if ok2:  # else what moved is not a whole person yet: keep the guess
+                if ok2:  # else what moved is not a whole person yet: no pose
                     sil, win, floor_ok = moved, win2, True
         if win is not None and floor_ok:
             self._depths.append((frames.t, win.distance))
-        if win is None or not ok:
+        if win is None or not ok or not floor_ok:
             stages["window"] = time.perf_counter() - tic
             return self._absent(frames, sil, t0, stages)
         if self._started is None:
