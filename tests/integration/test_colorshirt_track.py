@@ -20,7 +20,6 @@ WAVE = DATA / "mocap" / "bandai_namco" / "dataset-2_wave-both-hands_normal_001.b
 # wrist speed 0.9 m/s, pelvis 0.05 m/s, against 0.8 and 0.02 for the wave), not its
 # jumping jacks. Every threshold below holds on both (docs/reliability.md).
 CLIP, START = (str(WAVE), 0.0) if WAVE.exists() else ("13_29", 9.0)
-FALLBACK = not WAVE.exists()
 
 
 def _synth(out: Path, seconds: float, lighting: str = "steady", lead_in: float = 0.0) -> Path:
@@ -121,11 +120,6 @@ def lead_in_capture(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.gl
-@pytest.mark.xfail(
-    FALLBACK, strict=True,
-    reason="known regression (issue 24): on the vendored 13_29 fallback the one-camera root "
-           "depth is worse with the floor cue than without it since the Kalman depth filter "
-           "(9.9 cm against 8.0; 7.1 cm with the floor cue before); strict, so a fix shows")
 def test_one_camera_uses_the_feet_on_the_floor_after_an_empty_room_lead_in(
     tmp_path: Path, capsys, lead_in_capture: Path  # type: ignore[no-untyped-def]
 ) -> None:

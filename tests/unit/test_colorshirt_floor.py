@@ -7,7 +7,6 @@ import pytest
 
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.trackers.colorshirt.cues import head_height
-from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 from bodyplay.trackers.colorshirt.floor import (
     BackgroundPlate,
     FeetPoint,
@@ -17,6 +16,8 @@ from bodyplay.trackers.colorshirt.floor import (
     person_region,
 )
 from bodyplay.trackers.colorshirt.head import HeadPoint
+from bodyplay.trackers.colorshirt.locate import BackgroundMask
+from bodyplay.trackers.colorshirt.views import CameraState
 
 SHIRT = (280, 120, 360, 240)  # full-resolution box of the shirt
 
@@ -193,17 +194,15 @@ def test_floor_reading_tells_how_far_apart_in_depth_the_feet_stand(
     from types import SimpleNamespace
 
     from bodyplay.trackers.colorshirt import ColorShirtOptions
-    from bodyplay.trackers.colorshirt.cues import floor_root_priors
-    from bodyplay.trackers.colorshirt.locate import BackgroundMask
-    from bodyplay.trackers.colorshirt.views import CameraState
+    from bodyplay.trackers.colorshirt.cues import floor_reading
 
     R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
     cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
     room = _room()
     state = CameraState(BackgroundMask(), floor=_watching(room, _stance(room, 420, right_v)))
     view = SimpleNamespace(index=0)
-    reading = floor_root_priors((cam,), (state,), (view,), ColorShirtOptions())  # type: ignore[arg-type]
-    assert len(reading.priors) == 1
+    reading = floor_reading((cam,), (state,), (view,), ColorShirtOptions(), 0.9)  # type: ignore[arg-type]
+    assert reading.depth is not None
     if staggered is None:  # the far foot is above the lowest tenth: one foot found
         assert reading.stagger is None
         return
@@ -212,88 +211,32 @@ def test_floor_reading_tells_how_far_apart_in_depth_the_feet_stand(
     assert near is not None and far is not None
     assert reading.stagger == pytest.approx(far - near, abs=0.03)
     assert (reading.stagger > ColorShirtOptions().body_choice_max_stagger) == staggered
-    two = floor_root_priors((cam, cam), (state, state), (view, view), ColorShirtOptions())  # type: ignore[arg-type]
-    assert two.priors == () and two.stagger is None  # two cameras see depth themselves
+    two = floor_reading((cam, cam), (state, state), (view, view), ColorShirtOptions(), 0.9)  # type: ignore[arg-type]
+    assert two.depth is None and two.stagger is None  # two cameras see depth themselves
 
 
-def _depth_rig() -> Camera:
-    R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
-    return Camera.from_fov("cam0", 640, 480, 60.0, R, t)
-
-
-def _filter(cam: Camera, depth: float) -> RootDepthFilter:
-    f = RootDepthFilter(accel=3.0, floor_std=0.05)
-    assert f.begin((cam,), 0, 0.0, depth) is not None
-    return f
-
-
-def test_depth_filter_holds_the_depth_with_a_growing_uncertainty_while_the_feet_are_unseen(
+def test_floor_reading_is_the_depth_of_the_root_above_the_feet_for_a_camera_looking_down(
 ) -> None:
-    cam = _depth_rig()
-    f = RootDepthFilter()
-    assert f.begin((cam,), 0, 0.0, None) is None  # nothing known yet
-    f = _filter(cam, 3.0)
-    std0 = f.std()
-    held = f.begin((cam,), 0, 0.1, None)
-    assert held is not None and held.target + cam.t[2] == pytest.approx(3.0)
-    later = f.begin((cam,), 0, 0.5, None)
-    assert later is not None and std0 is not None and later.std > held.std > std0
-    assert f.begin((cam,), 0, 2.0, None) is None  # lapsed after the horizon
+    from types import SimpleNamespace
 
+    from bodyplay.trackers.colorshirt import ColorShirtOptions
+    from bodyplay.trackers.colorshirt.cues import floor_reading
 
-def test_depth_filter_leaves_out_a_floor_reading_of_feet_in_the_air() -> None:
-    cam = _depth_rig()
-    f = _filter(cam, 3.0)
-    for k in range(1, 10):  # standing: the readings agree
-        f.begin((cam,), 0, k / 30, 3.0)
-        assert not f.rejected
-    # a foot 18 cm up reads about half a metre too far
-    prior = f.begin((cam,), 0, 10 / 30, 3.5)
-    assert f.rejected and prior is not None
-    assert prior.target + cam.t[2] == pytest.approx(3.0, abs=0.02)
-
-
-def test_depth_filter_follows_a_player_walking_towards_the_camera() -> None:
-    cam = _depth_rig()
-    f = _filter(cam, 3.5)
-    speed = 0.8  # m/s
-    for k in range(1, 60):
-        t = k / 30
-        prior = f.begin((cam,), 0, t, 3.5 - speed * t)
-        assert not f.rejected
-    assert prior is not None
-    assert prior.target + cam.t[2] == pytest.approx(3.5 - speed * 59 / 30, abs=0.03)
-    held = f.begin((cam,), 0, 2.1, None)  # feet lost: it goes on walking
-    assert held is not None
-    assert held.target + cam.t[2] == pytest.approx(3.5 - speed * 2.1, abs=0.05)
-
-
-def test_depth_filter_restarts_from_the_feet_when_they_keep_disagreeing() -> None:
-    cam = _depth_rig()
-    f = _filter(cam, 3.0)
-    for k in range(1, 40):
-        prior = f.begin((cam,), 0, k / 30, 2.2)
-    assert prior is not None and prior.target + cam.t[2] == pytest.approx(2.2, abs=0.05)
-
-
-def test_depth_filter_carries_the_fitted_depth_without_growing_sure_of_it() -> None:
-    cam = _depth_rig()
-    f = RootDepthFilter()
-    f.begin((cam,), 0, 0.0, None)
-    f.end(3.0)  # no floor reading yet: the shirt alone, nothing to hold
-    assert f.depth() is None
-    f = _filter(cam, 3.0)
-    std = f.std()
-    f.end(3.2)  # the fit (feet and shirt) put the root here
-    assert f.depth() == pytest.approx(3.2) and f.std() == std
-
-
-def test_depth_filter_stops_when_two_cameras_see_the_shirt() -> None:
-    cam = _depth_rig()
-    f = _filter(cam, 3.0)
-    assert f.begin((cam, cam), None, 0.1, None) is None
-    assert f.std() is None
-    assert f.begin((cam, cam), 1, 0.2, None) is None  # another camera starts afresh
+    R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
+    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
+    room = _room()
+    state = CameraState(BackgroundMask(), floor=_watching(room, _stance(room, 420, 420)))
+    feet = state.floor.feet()
+    assert feet
+    depth = floor_depth(cam, feet[0])
+    assert depth is not None
+    ray = np.linalg.solve(cam.K, np.array([feet[0].u, feet[0].v, 1.0]))
+    root = cam.R.T @ (ray * depth) + cam.center + np.array([0.0, 0.9, 0.0])
+    options = ColorShirtOptions(floor_offset=0.0)
+    reading = floor_reading((cam,), (state,), (SimpleNamespace(index=0),), options, 0.9)  # type: ignore[arg-type]
+    assert reading.depth == pytest.approx(float(cam.world_to_camera(root)[2]), abs=0.02)
+    # the camera looks down: the root 0.9 m up is nearer along its axis than the feet
+    assert reading.depth < depth - 0.05
 
 
 def test_a_foot_split_by_the_threshold_still_reaches_down_to_its_toes() -> None:

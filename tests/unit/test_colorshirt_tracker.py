@@ -295,10 +295,12 @@ def test_options_reject_arm_scales_without_the_presets_own_arms() -> None:
         ColorShirtOptions(arm_scales=(0.2, 1.0))
 
 
-def test_options_reject_a_negative_depth_acceleration() -> None:
+def test_options_reject_a_depth_filter_without_motion_or_with_a_sure_cue() -> None:
     with pytest.raises(ConfigError, match="depth_accel"):
-        ColorShirtOptions(depth_accel=-1.0)
-    assert ColorShirtOptions(depth_accel=0.0).depth_accel == 0.0  # off
+        ColorShirtOptions(depth_accel=0.0)
+    for name in ("shirt_depth_std", "body_scale_std", "depth_pin_std"):
+        with pytest.raises(ConfigError, match=name):
+            ColorShirtOptions(**{name: 0.0})
 
 
 def test_options_reject_a_gate_that_cannot_hold_the_shirt() -> None:

@@ -3,10 +3,9 @@
 Both read the plate's foreground (:class:`.floor.FloorWatch`), so both need the
 empty-room frames the plate learns from; without them they are simply absent.
 
-* :func:`floor_root_priors`: with one camera, where the feet meet the floor fixes
-  the root's depth (:mod:`.floor`).
-* the reading is combined over time with the shirt's size by
-  :class:`.depth.RootDepthFilter`.
+* :func:`floor_reading`: with one camera, where the feet meet the floor tells
+  the root's depth (:mod:`.floor`); the reading is combined over time with the
+  body's size by :class:`.depth.RootDepthFilter`.
 * :func:`head_anchors`: in every camera, the head found above the collar
   (:mod:`.head`) becomes a 2-D constraint on the head joint in the IK, which the
   shirt's patches leave to the database blend.
@@ -29,11 +28,11 @@ from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.floor import FeetPoint, floor_depth
 from bodyplay.trackers.colorshirt.head import HEAD_RADIUS, HeadPoint, find_head
-from bodyplay.trackers.colorshirt.ik import PatchAnchors, RootPrior
+from bodyplay.trackers.colorshirt.ik import PatchAnchors
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraState, CameraView
 
-__all__ = ["HEAD_PATCH", "FloorReading", "floor_root_priors", "head_anchors",
+__all__ = ["HEAD_PATCH", "FloorReading", "floor_reading", "head_anchors",
            "head_from_cue", "head_height", "join_anchors", "within_reach"]
 
 HEAD_PATCH = NUM_PATCHES + 1
@@ -53,18 +52,16 @@ _HEAD_TOP = NODE_NAMES.index("head_top")
 class FloorReading:
     """What the feet told about the root's depth in one frame.
 
-    ``priors``: the root-depth prior (none, or one for the lone camera); ``stagger``:
-    how far apart the two feet's floor points lie along that camera's axis (metres;
-    None unless both feet were found: the other may be hidden behind, or too far
-    above the lowest to count as a foot). A staggered stance makes the prior
-    unreliable: nothing in one image says which foot bears the weight, and the
-    pelvis can sit above either.
+    ``depth``: the root's depth along the lone camera's axis that the feet tell
+    (None: no reading); ``stagger``: how far apart the two feet's floor points lie
+    along that camera's axis (metres; None unless both feet were found: the other
+    may be hidden behind, or too far above the lowest to count as a foot). A
+    staggered stance makes the reading unreliable: nothing in one image says which
+    foot bears the weight, and the pelvis can sit above either.
     """
 
-    priors: tuple[RootPrior, ...] = ()
     stagger: float | None = None
     depth: float | None = None
-    """The root's depth the feet tell (m along the lone camera's axis; None: none)."""
 
 
 def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
@@ -86,25 +83,36 @@ def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
     return float(np.linalg.norm(root - last)) <= 0.25 + max_speed * dt
 
 
-def floor_root_priors(cameras: Sequence[Camera], states: Sequence[CameraState],
-                      views: Sequence[CameraView], options: ColorShirtOptions
-                      ) -> FloorReading:
-    """Root-depth prior of a lone camera that sees where the feet meet the floor.
+def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
+                  views: Sequence[CameraView], options: ColorShirtOptions,
+                  root_height: float) -> FloorReading:
+    """The root's depth that a lone camera reads from where the feet meet the floor.
 
-    Two cameras that see the shirt triangulate its depth better than the feet tell
-    it (on the validation clips the cue made two cameras 0.1 cm worse), so the cue
-    only serves a frame that one camera sees.
+    The feet's floor points (their mean) are raised by ``root_height`` (m, the
+    root's height above the floor) and their depth along the camera's axis,
+    plus ``options.floor_offset``, is the reading. A camera that looks down sees
+    the root nearer than the feet below it (by the height times the sine of its
+    tilt: 12 cm for a 7.5 degree tilt and a 0.93 m pelvis), which a constant
+    offset on the feet's depth missed. Two cameras that see the shirt
+    triangulate its depth better than the feet tell it (on the validation clips
+    the cue made two cameras 0.1 cm worse), so the cue only serves a frame that
+    one camera sees.
     """
     if len(views) != 1 or not options.floor_cue:
         return FloorReading()
     cam = cameras[views[0].index]
-    depths = [z for f in states[views[0].index].floor.feet()
-              if (z := floor_depth(cam, f)) is not None]
+    points, depths = [], []
+    for f in states[views[0].index].floor.feet():
+        z = floor_depth(cam, f)
+        if z is not None:
+            depths.append(z)
+            ray = np.linalg.solve(cam.K, np.array([f.u, f.v, 1.0]))
+            points.append(cam.R.T @ (ray * z) + cam.center)
     if not depths:
         return FloorReading()
-    depth = float(np.mean(depths)) + options.floor_offset
-    prior = RootPrior.camera_depth(cam, depth, options.floor_std)
-    return FloorReading((prior,), max(depths) - min(depths) if len(depths) > 1 else None, depth)
+    root = np.mean(points, axis=0) + np.array([0.0, root_height, 0.0])
+    depth = float(cam.world_to_camera(root)[2]) + options.floor_offset
+    return FloorReading(max(depths) - min(depths) if len(depths) > 1 else None, depth)
 
 
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],

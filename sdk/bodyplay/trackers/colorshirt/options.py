@@ -92,14 +92,23 @@ class ColorShirtOptions:
     * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
       from where the feet meet the floor (beyond the paper; needs a background
       plate, learned on empty-room frames before the shirt first appears);
-      ``floor_offset`` (m) is the pelvis's depth minus the feet's, ``floor_std`` (m)
-      the prior's standard deviation.
-    * ``depth_accel``: with one camera the floor readings and the shirt's size
-      are combined over time by a constant-velocity Kalman filter on the root's
-      depth (:class:`.depth.RootDepthFilter`) whose acceleration std this is
-      (m/s²; 0: off, the floor reading of the frame alone is the prior); floor
-      readings more than 3 standard deviations from its prediction (feet off
-      the floor) are left out; its std is reported as ``depth_std``.
+      ``floor_offset`` (m) is added to the depth of the root above the feet (the
+      nearest pixel of a foot, the lowest in the image, lies in front of the
+      pelvis: 11 cm on the validation set's tune half), ``floor_std`` (m) the
+      reading's standard deviation.
+    * ``depth_accel``: with one camera the floor readings and the body's size
+      (the depth at which the skeleton's lengths project as large as the shirt
+      looks) are combined over time by one extended Kalman filter on the root's
+      depth, its speed and the player's size relative to the reference body
+      (:class:`.depth.RootDepthFilter`); this is its acceleration std (m/s²).
+      ``shirt_depth_std`` is the std of the shirt's reading as a fraction of the
+      depth, ``body_scale_std`` the prior std of the player's size relative to
+      the reference body (what a missing floor cue costs, as a fraction of the
+      depth); readings more than 3 standard deviations from the prediction
+      (feet off the floor, a wrong fit) are left out. The IK holds the root at
+      the filter's depth with the std ``depth_pin_std`` (m; the filter already
+      weighed the shirt's size); the filter's own std is reported per frame as
+      ``depth_std``.
     * ``head_cue``: in every camera, the head found in the plate's foreground above
       the collar constrains the head joint in the IK (beyond the paper; needs the
       plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
@@ -177,9 +186,12 @@ class ColorShirtOptions:
     body_choice_max_stagger: float = 0.15
     stature_tolerance: float = 0.1
     floor_cue: bool = True
-    floor_offset: float = 0.02
+    floor_offset: float = 0.11
     floor_std: float = 0.05
     depth_accel: float = 3.0
+    shirt_depth_std: float = 0.08
+    body_scale_std: float = 0.06
+    depth_pin_std: float = 0.01
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
@@ -255,9 +267,15 @@ class ColorShirtOptions:
             raise ConfigError("arm_tolerance must be within 0 (the best residual wins) and "
                               "0.5 (default 0.05)")
         if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
-            raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.02)")
-        if not (np.isfinite(self.depth_accel) and 0.0 <= self.depth_accel <= 50.0):
-            raise ConfigError("depth_accel must be within 0 (off) and 50 m/s^2 (default 3)")
+            raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.11)")
+        if not (np.isfinite(self.depth_accel) and 0.0 < self.depth_accel <= 50.0):
+            raise ConfigError("depth_accel must be within 0 and 50 m/s^2 (default 3)")
+        for name, value, hi in (("shirt_depth_std", self.shirt_depth_std, 1.0),
+                                ("body_scale_std", self.body_scale_std, 0.5),
+                                ("depth_pin_std", self.depth_pin_std, 1.0)):
+            if not (np.isfinite(value) and 0.001 <= value <= hi):
+                raise ConfigError(f"{name} must be within 0.001 and {hi} (default "
+                                  f"{getattr(ColorShirtOptions, name)})")
         if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
             raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
         if not (np.isfinite(self.head_offset) and abs(self.head_offset) <= 0.2):

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import UPPER_BODY
 from bodyplay.body.shirt import NUM_COLORS
-from bodyplay.body.skeleton import Skeleton
+from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import TimestampError
@@ -51,7 +51,7 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.cues import (
     FloorReading,
-    floor_root_priors,
+    floor_reading,
     head_anchors,
     head_height,
     join_anchors,
@@ -92,8 +92,19 @@ __all__ = ["ColorShirtTracker", "CameraView"]
 _REDUCE = 2
 """Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
 
+_ROOT_HEIGHT = (0.3, 1.6)
+"""Metres above the floor (world y = 0) where a lone camera's fitted root may be: one
+camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
+pile of clothes on the floor, 5 m too far) put the root deep under the floor."""
+
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
+
+
+def _torso_length(skeleton: Skeleton) -> float:
+    """Pelvis to neck (m) of ``skeleton`` standing upright (its bone offsets)."""
+    chain = [NODE_NAMES.index(n) for n in ("lumbar", "thorax", "neck")]
+    return float(np.linalg.norm(skeleton.offsets[chain].sum(axis=0)))
 
 
 @dataclass(eq=False)
@@ -175,12 +186,11 @@ class ColorShirtTracker:
         """Time and root position of the last pose reported (for the speed gate)."""
         self._floor = FloorReading()
         o = self.options
-        self._depth = (RootDepthFilter(o.depth_accel, o.floor_std) if o.depth_accel > 0
-                       else None)
-        self._root_priors: tuple[RootPrior, ...] = ()
-        """This frame's priors on the root's depth (one camera: the depth filter's
-        prediction updated by the feet on the floor; without the filter the feet's
-        reading alone)."""
+        self._depth = RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std,
+                                      o.body_scale_std)
+        """One camera's root depth (the feet and the body's size over time)."""
+        self._lone: int | None = None
+        """The camera that alone sees the shirt this frame (None: none or several)."""
         self._selection: BodySelection | None = None
         self._stature: float | None = None
         self._arm_stage_started = False
@@ -466,14 +476,11 @@ class ColorShirtTracker:
                 self.diagnostics["light_change"] = M
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
-        self._floor = floor_root_priors(self.cameras, self._cams, views, self.options)
-        lone = views[0].index if len(views) == 1 else None
-        if self._depth is not None:
-            prior = self._depth.begin(self.cameras, lone, frames.t, self._floor.depth)
-            self._root_priors = () if prior is None else (prior,)
-        else:
-            self._root_priors = self._floor.priors
-        self.diagnostics["floor_priors"] = self._root_priors
+        root_height = (float(self._prev[1]) if self._prev is not None
+                       else self.skeleton.pelvis_height)
+        self._floor = floor_reading(self.cameras, self._cams, views, self.options, root_height)
+        lone = self._lone = views[0].index if len(views) == 1 else None
+        self._depth.begin(lone, frames.t, self._floor.depth, len(views))
         if not views:
             self._prev = None
             self._learn_room(None)
@@ -524,8 +531,8 @@ class ColorShirtTracker:
         self._unreached = None
         self._learn_room(fit.q if fit.residual <= self.options.good_residual else None)
         self._ever_reported = True
-        if self._depth is not None and lone is not None:
-            self._depth.end(float(self.cameras[lone].world_to_camera(fit.q[:3])[2]))
+        if lone is not None:
+            self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
@@ -548,24 +555,32 @@ class ColorShirtTracker:
         assert sel is not None
         fits: dict[str, tuple[_Fit, dict[str, object]]] = {}
         residuals: dict[str, float] = {}
+        stagger, limit = self._floor.stagger, self.options.body_choice_max_stagger
+        judging = not (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
+                       and (stagger is None or stagger > limit))
         racing = list(sel.active)
         if self._reference in self._bodies and self._reference not in racing:
             racing.append(self._reference)  # reported until the choice is made
+        if not judging:  # only the body reported is fitted (its fit is all the frame gives)
+            shown = (sel.best() if sel.seen > 0 or self._reference not in self._bodies
+                     else self._reference)
+            for name in racing:
+                if name != shown:
+                    sel.previous[name] = None
+            racing = [shown]
         for name in racing:
             body = self._bodies[name]
             self._use(body)
             self.diagnostics = {}
             fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name),
-                                 search_one=False)
+                                 search_one=not judging)
             if not self._plausible(fit.q, fit.views):
                 sel.previous[name] = None
                 continue
             sel.previous[name] = fit.q
             fits[name] = (fit, self.diagnostics)
             residuals[name] = fit.residual
-        stagger, limit = self._floor.stagger, self.options.body_choice_max_stagger
-        if (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
-                and (stagger is None or stagger > limit)):
+        if not judging:
             sel.skip(self._reference)  # one view, no measure of distance: size unknown
         else:
             if len(views) == 1 and fits:
@@ -583,7 +598,7 @@ class ColorShirtTracker:
             return None
         fit, judged = fits[best]
         o = self.options
-        if len(views) == 1 and o.arm_search and o.arm_search_one_camera:
+        if judging and len(views) == 1 and o.arm_search and o.arm_search_one_camera:
             # the candidates are judged without the arm search; the pose reported
             # while they are is the best one has
             self.diagnostics = {}
@@ -628,9 +643,12 @@ class ColorShirtTracker:
 
     def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
         """Whether an estimate can be reported: in front of every camera that saw the
-        shirt, its chest inside that camera's crop, and not wildly far from the
-        database placement. A garbage fit (e.g. right after a light switch) is
-        reported lost rather than as a pose metres away."""
+        shirt, its chest inside that camera's crop, not wildly far from the
+        database placement, and with one camera its root at a person's height. A
+        garbage fit (e.g. right after a light switch) is reported lost rather than as
+        a pose metres away."""
+        if len(views) == 1 and not _ROOT_HEIGHT[0] <= q[1] <= _ROOT_HEIGHT[1]:
+            return False  # one camera: a root under the floor or overhead is a wrong depth
         chest = self.skeleton.joint_positions(q)[UPPER_BODY.index("chest")]
         for v in views:
             cam = self.cameras[v.index]
@@ -663,7 +681,7 @@ class ColorShirtTracker:
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
         anchors = self._anchors(q_b, views, rendered, observed)
-        q_b = self.solver.solve_global(q_b, anchors, root_priors=self._root_priors)
+        q_b, root_priors = self._place_root(q_b, anchors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
         if o.arm_search and (not one or (o.arm_search_one_camera and search_one)):
@@ -693,7 +711,7 @@ class ColorShirtTracker:
             if len(anchors) < 3:
                 break
             q = self.solver.solve_ik(q_b, anchors, prior, prev, q_start=q,
-                                     root_priors=self._root_priors)
+                                     root_priors=root_priors)
             # the visible part of each patch changes with the pose: re-anchor
             verts = self.renderer.vertices(q)
             rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
@@ -711,14 +729,60 @@ class ColorShirtTracker:
         self.diagnostics["residual"] = resid
         return _Fit(q, {int(p) for p in anchors.patch}, resid, views, rendered)
 
+    def _place_root(self, q: NDArray[np.float64], anchors: PatchAnchors
+                    ) -> tuple[NDArray[np.float64], tuple[RootPrior, ...]]:
+        """6-DOF fit of the placed blend; with one camera, the root moved along its ray
+        to the depth filter's estimate, and the IK's prior on the root's depth.
+
+        A first fit without any depth prior reads the depth at which the body's
+        known lengths project as large as the shirt looks: the filter's shirt
+        reading (``diagnostics["shirt_depth"]``, scaled to the reference body's
+        size). The filter is the one place that weighs the depth cues, so the IK
+        does not weigh the shirt's size again: its prior holds the root at the
+        filter's depth with ``depth_pin_std`` (on the benchmark clips the filter's
+        own std there, 5 cm, let the IK follow the shirt's noisy size: 5.95 cm
+        against 5.60 with 1 cm).
+        """
+        placed = q
+        q = self.solver.solve_global(placed, anchors)
+        index = self._lone
+        if index is None:
+            return q, ()
+        cam = self.cameras[index]
+        z = float(cam.world_to_camera(q[:3])[2])
+        reading = z * self._depth_scale() if z > 0.3 else None
+        self.diagnostics["shirt_depth"] = reading
+        post = self._depth.posterior(reading)
+        if post is None:
+            return q, ()
+        depth, std = post
+        self.diagnostics["depth_post"] = post
+        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
+        # fitted again at that depth: at the shirt's own depth the fit leans the torso
+        # to make up for a wrong size, and the IK's prior towards it kept the lean
+        # (benchmark clips, one camera: 12.8 cm with the lean kept, 6 without)
+        z0 = float(cam.world_to_camera(placed[:3])[2])
+        if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
+            placed = placed.copy()
+            placed[:3] = cam.center + (placed[:3] - cam.center) * (depth / z0)
+        return self.solver.solve_global(placed, anchors, root_priors=priors), priors
+
+    def _depth_scale(self) -> float:
+        """The reference body's torso length over the active body's: turns the active
+        body's depth reading into the reference body's (the filter's scale is the
+        player's size relative to the reference)."""
+        ref = self._presets.get("m")
+        return _torso_length(ref.skeleton if ref else self._fixed.skeleton) / _torso_length(
+            self.skeleton)
+
     def _result(self, frames: FrameSet, q: NDArray[np.float64], seen: set[int],
                 views: list[CameraView], t0: float) -> TrackResult:
         heads = cast(list[tuple[int, HeadPoint]], self.diagnostics.get("heads", []))
         extras: dict[str, object] = {
             "feet": [(v.index, self._cams[v.index].floor.last_feet) for v in views],
-            "floor_cue": bool(self._floor.priors),
-            "depth_std": (self._depth.std() if self._depth is not None and len(views) == 1
-                          else None),
+            "floor_cue": self._floor.depth is not None,
+            "depth_std": (cast("tuple[float, float]", self.diagnostics["depth_post"])[1]
+                          if len(views) == 1 and "depth_post" in self.diagnostics else None),
             "arms": self.diagnostics.get("arms", [])}
         return pose_result(frames, self.skeleton, q, seen, views, self.cameras, heads,
                            self.options, 1000.0 * (time.perf_counter() - t0), extras)
