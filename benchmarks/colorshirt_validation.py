@@ -350,14 +350,16 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
     assert src.cameras is not None
     cams = src.cameras[: setting.cameras]
     tracker = create_colorshirt_tracker(options, cams, database=db)
-    errs, ms, depth = [], [], []
+    errs, ms, cpu, depth, calib = [], [], [], [], []
     frames = found = 0
     with src:
         for fs in src:
             has_truth = bool(np.isfinite(truth.joints[fs.index][0]).all())
             if setting.start == "view" and not has_truth:
                 continue  # the tracker starts with the player in view
+            c0 = time.thread_time()
             r = tracker.process(FrameSet(fs.frames[: setting.cameras], fs.t, fs.index))
+            cpu.append(1000 * (time.thread_time() - c0) / setting.cameras)
             ms.append(r.ms / setting.cameras)
             if not has_truth:
                 continue
@@ -369,12 +371,18 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
                 c = cams[0]
                 depth.append(float(c.world_to_camera(r.joints[0])[2]
                                    - c.world_to_camera(t[0])[2]))
+                std = r.extras.get("depth_std")
+                if isinstance(std, float):  # one camera: is the reported std honest?
+                    calib.append(abs(depth[-1]) < 2.0 * std)
     e = np.array(errs)
     return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
             "worst_frame_cm": float(100 * e.max()) if len(e) else float("nan"),
             "found": found / max(frames, 1), "frames": frames,
             "ms_median": float(np.median(ms)) if ms else float("nan"),
             "ms_p90": float(np.percentile(ms, 90)) if ms else float("nan"),
+            "cpu_ms_median": float(np.median(cpu)) if cpu else float("nan"),
+            "cpu_ms_p90": float(np.percentile(cpu, 90)) if cpu else float("nan"),
+            "depth_within_2std": float(np.mean(calib)) if calib else float("nan"),
             "root_depth_bias_cm": float(100 * np.mean(depth)) if depth else float("nan"),
             "root_depth_abs_cm": float(100 * np.mean(np.abs(depth))) if depth else float("nan"),
             "body": tracker.body_name}
@@ -383,8 +391,8 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
 def summarize(rows: list[dict[str, Any]], settings: list[Setting]) -> list[str]:
     """Per setting: median and worst clip, found share, time (markdown lines)."""
     lines = ["| setting | clips | MPJPE median (cm) | worst clip (cm) | pose on frames median "
-             "/ worst | ms per camera frame (median, from frame 1) |",
-             "|---|---|---|---|---|---|"]
+             "/ worst | ms per camera frame (median, from frame 1) | CPU ms (tracking thread) |",
+             "|---|---|---|---|---|---|---|"]
     for s in settings:
         sel = [r for r in rows if r["setting"] == s.name]
         if not sel:
@@ -393,9 +401,11 @@ def summarize(rows: list[dict[str, Any]], settings: list[Setting]) -> list[str]:
         worst = sel[int(np.nanargmax(mp))] if np.isfinite(mp).any() else sel[0]
         fd = np.array([r["found"] for r in sel])
         ms = np.array([r["ms_median"] for r in sel])
+        cpu = np.array([r.get("cpu_ms_median", np.nan) for r in sel])
         lines.append(f"| {s.name} | {len(sel)} | {np.nanmedian(mp):.2f} | "
                      f"{worst['mpjpe_cm']:.2f} ({worst['clip']}) | "
-                     f"{100 * np.median(fd):.0f}% / {100 * fd.min():.0f}% | {np.median(ms):.1f} |")
+                     f"{100 * np.median(fd):.0f}% / {100 * fd.min():.0f}% | {np.median(ms):.1f} | "
+                     f"{np.median(cpu):.1f} |")
     return lines
 
 

@@ -82,6 +82,8 @@ class RootDepthFilter:
     """Time of the state."""
     t_read: float = float("nan")
     """Time of the last reading taken in (the depth lapses ``horizon`` after it)."""
+    t_floor: float = float("nan")
+    """Time of the last floor reading taken in."""
     rejected: bool = False
     """Whether this frame's floor reading was left out."""
     rejects: dict[str, int] = field(default_factory=lambda: {"floor": 0, "shirt": 0})
@@ -129,6 +131,11 @@ class RootDepthFilter:
         P[1, 1] = 1.0
         return x, P
 
+    def feet_known(self) -> bool:
+        """Whether the depth rests on the feet: a floor reading taken in within the
+        last ``horizon`` seconds of the state."""
+        return self.kf is not None and self.t - self.t_floor <= self.horizon
+
     def std(self) -> float | None:
         """The depth's current standard deviation (m), None without a state."""
         return None if self.kf is None else float(np.sqrt(self.kf.P[0, 0]))
@@ -163,7 +170,7 @@ class RootDepthFilter:
             self.camera, self.kf = index, None
             if floor is not None:
                 self._start(*self._from_floor(floor))
-                self.t = self.t_read = t
+                self.t = self.t_read = self.t_floor = t
             return
         kf = self.kf
         dt = max(t - self.t, 1e-3)
@@ -183,14 +190,14 @@ class RootDepthFilter:
             if y**2 <= (1.0 if y > 0.0 else self.gate) * S:
                 self.rejects["floor"] = 0
                 kf.update(np.array([floor]), R=np.array([[R]]), H=H)
-                self.t_read = t
+                self.t_read = self.t_floor = t
             else:
                 self.rejects["floor"] += 1
                 self.rejected = True
                 if self.rejects["floor"] >= self.max_rejects:
                     self._keep_body()
                     self._start(*self._from_floor(floor))
-                    self.t_read = t
+                    self.t_read = self.t_floor = t
 
     def _shirt_update(self, x: NDArray[np.float64], P: NDArray[np.float64],
                       reading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:

@@ -737,11 +737,17 @@ class ColorShirtTracker:
         A first fit without any depth prior reads the depth at which the body's
         known lengths project as large as the shirt looks: the filter's shirt
         reading (``diagnostics["shirt_depth"]``, scaled to the reference body's
-        size). The filter is the one place that weighs the depth cues, so the IK
-        does not weigh the shirt's size again: its prior holds the root at the
-        filter's depth with ``depth_pin_std`` (on the benchmark clips the filter's
-        own std there, 5 cm, let the IK follow the shirt's noisy size: 5.95 cm
-        against 5.60 with 1 cm).
+        size). Once the feet told the depth, the filter is the one place that weighs
+        the depth cues, and the IK's prior holds the root at its depth with
+        ``depth_pin_std`` (with the filter's own std there, 5 cm, the IK followed
+        the shirt's noisy size again: benchmark wave clip 5.95 cm against 5.60
+        with 1 cm). Without the feet the filter's depth is the rigid fit's shirt
+        size smoothed, and the IK's articulated fit of the shirt reads it better:
+        the IK then starts from the shirt's own depth with a prior of the
+        filter's std (pinned, or started at the filter's depth, which the IK's
+        prior towards the blend holds as well, the tune half's in-view clips got
+        2-10 cm worse, and the hop clip drifted 65 cm near and lost half its
+        frames).
         """
         placed = q
         q = self.solver.solve_global(placed, anchors)
@@ -757,6 +763,8 @@ class ColorShirtTracker:
             return q, ()
         depth, std = post
         self.diagnostics["depth_post"] = post
+        if not self._depth.feet_known():
+            return q, (RootPrior.camera_depth(cam, depth, std),)
         priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
         # fitted again at that depth: at the shirt's own depth the fit leans the torso
         # to make up for a wrong size, and the IK's prior towards it kept the lean
