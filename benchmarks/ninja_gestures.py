@@ -91,9 +91,22 @@ def frames_truth(script: Script, fps: float) -> Iterator[tuple[float, np.ndarray
         yield float(t), script.timeline.joints_at(float(t))
 
 
+def tracker_options(tracker_name: str, plain: bool = False) -> Any:
+    """The options the ninja game gives ``tracker_name`` (its own silhouette hierarchy),
+    or the tracker's defaults when ``plain``."""
+    if plain:
+        return None
+    from apps.ninja.game.game import NinjaGame
+
+    return NinjaGame().tracker_options(tracker_name)
+
+
 def frames_tracked(script: Script, fps: float, tracker_name: str,
-                   stats: dict[str, list[float]]) -> Iterator[tuple[float, np.ndarray]]:
-    """(t, joints) the tracker reports while the synthetic camera films the script."""
+                   stats: dict[str, list[float]], plain: bool = False, lead_in: float = 0.0
+                   ) -> Iterator[tuple[float, np.ndarray]]:
+    """(t, joints) the tracker reports while the synthetic camera films the script
+    (with the options the game gives it; its defaults when ``plain``), after
+    ``lead_in`` s of the empty room (not yielded; the script's times are kept)."""
     from bodyplay.body.actor import load_actor
     from bodyplay.synth import SyntheticCamera
     from bodyplay.synth.options import make_synthetic_camera_options
@@ -108,9 +121,13 @@ def frames_tracked(script: Script, fps: float, tracker_name: str,
     opts = make_synthetic_camera_options(cameras=1, fps=fps, body=script.body,
                                          seed=script.seed)
     with SyntheticCamera(opts, frame_joints=frame_joints, actor=actor) as cam:
-        tracker = create_tracker(tracker_name, cam.cameras)
-        for i, t in enumerate(times):
-            shot = cam.capture(float(t), tl.pose_at(float(t)), index=i)
+        tracker = create_tracker(tracker_name, cam.cameras,
+                                 tracker_options(tracker_name, plain))
+        empty = np.arange(0.0, lead_in - 1e-9, 1.0 / fps)
+        for i, t in enumerate(empty):
+            tracker.process(cam.capture_empty(float(t), index=i).frames)
+        for i, t in enumerate(times, start=len(empty)):
+            shot = cam.capture(float(t) + lead_in, tl.pose_at(float(t)), index=i)
             r = tracker.process(shot.frames)
             stats.setdefault("ms", []).append(float(r.ms))
             err = np.linalg.norm(r.joints[:11] - shot.joints[:11], axis=1)
@@ -170,6 +187,12 @@ def main() -> None:
     ap.add_argument("--scripts", type=int, default=3)
     ap.add_argument("--skip", type=int, default=0, help="start after this many scripts")
     ap.add_argument("--tracker", default="colorshirt")
+    ap.add_argument("--plain", action="store_true",
+                    help="the tracker's default options, not the game's (for the silhouette "
+                         "tracker: its default hierarchy instead of the ninja's)")
+    ap.add_argument("--lead-in", type=float, default=0.0,
+                    help="seconds of the empty room before the script (default 0: the "
+                         "player is in view from the first frame)")
     ap.add_argument("--truth", action="store_true", help="skeleton joints, no camera")
     ap.add_argument("--fps", type=float, default=30.0)
     ap.add_argument("--json", type=Path, default=None)
@@ -184,9 +207,11 @@ def main() -> None:
     for seed in seeds(a.half, a.scripts, a.skip):
         script = make_script(seed)
         frames = (frames_truth(script, a.fps) if a.truth
-                  else frames_tracked(script, a.fps, a.tracker, stats))
+                  else frames_tracked(script, a.fps, a.tracker, stats, a.plain, a.lead_in))
         if a.cache is not None and not a.truth:
-            frames = cached(a.cache / f"{a.tracker}_seed{seed}_{a.fps:g}fps.npz", frames)
+            tag = f"{a.tracker}{'_plain' if a.plain else ''}"
+            tag += f"_lead{a.lead_in:g}" if a.lead_in > 0 else ""
+            frames = cached(a.cache / f"{tag}_seed{seed}_{a.fps:g}fps.npz", frames)
         scores, l = evaluate(script, frames)
         for g in FIVE:
             total[g].add(scores[g])

@@ -23,7 +23,7 @@ from bodyplay.app import Game, GameContext, GameOptions, Scene, camera_inset
 from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.skeleton import Skeleton
 
-__all__ = ["NinjaGame", "check_script", "OPPONENT_Z"]
+__all__ = ["NinjaGame", "check_script", "OPPONENT_Z", "EMPTY_ROOM_SECONDS"]
 
 OPPONENT_Z = 4.0
 """How far in front of the player the opponent stands (metres along +Z)."""
@@ -41,6 +41,12 @@ _OPP_POSES = {
               "r_hip": (-0.9, 0.0, 0.0), "l_knee": (1.6, 0.0, 0.0), "r_knee": (1.6, 0.0, 0.0)},
 }
 _LATE = 0.6  # s after a motion's end by which its gesture must be recognized
+
+EMPTY_ROOM_SECONDS = 1.0
+"""With the silhouette tracker, the virtual ninja steps into view after this many
+seconds of the empty room (the paper's background model is learned from the empty
+room; from the first frame in view the background model keeps the player's copy and
+the tracker starts in a crouched pose, docs/ninja.md)."""
 
 
 def check_script(script: list[dict[str, Any]], gestures: list[dict[str, Any]],
@@ -106,12 +112,14 @@ class NinjaGame(Game):
         from bodyplay.body.actor import load_actor
         from bodyplay.virtual import VirtualPlayerSource
 
+        empty = EMPTY_ROOM_SECONDS if options.tracker == "silhouette" else 0.0
         if self.player is None:
             skel = load_actor(shape="m").skeleton
-            self.player = NinjaPlayer(skel, style=self.player_style)  # type: ignore[arg-type]
+            self.player = NinjaPlayer(skel, style=self.player_style,  # type: ignore[arg-type]
+                                      transfigure_at=1.0 + empty)
         return VirtualPlayerSource(self.player, cameras=options.cameras, fps=options.video_fps,
                                    size=(options.width, options.height), seed=options.seed,
-                                   seconds=options.seconds or 60.0)
+                                   seconds=options.seconds or 60.0, empty_room_seconds=empty)
 
     def tracker_options(self, tracker: str) -> Any:
         """The silhouette tracker's hierarchy also holds the ninja's five motions (as

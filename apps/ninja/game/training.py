@@ -3,10 +3,14 @@
 The paper built its game's pose hierarchy from the game's own motions (400,000
 poses of three subjects performing the five motions, thinned to about 30,000).
 :func:`ninja_training_clip` does the same with what we have: the five motions of
-the gesture tables, each performed at three speeds with a side step either way,
-written once as a BVH file; :func:`silhouette_options` adds it to the vendored CMU
-clips the silhouette tracker's hierarchy is built from (its cache key includes the
-clip's content, so the hierarchy is built once).
+the gesture tables (the key poses the virtual ninja performs), each performed
+``variants`` times with a random speed (0.75-1.3), a random amplitude (every key
+pose's rotations scaled by 0.8-1.15 from the idle pose) and random joint noise
+(0.08 rad), so the tree holds motions *like* the game's rather than the exact test
+script, plus a side step either way; written once as a BVH file (its name carries
+the generator's version and seed). :func:`silhouette_options` adds it to the
+vendored CMU clips the silhouette tracker's hierarchy is built from (the
+hierarchy's cache key includes the clip's bytes, so it is built once).
 """
 
 from __future__ import annotations
@@ -15,34 +19,65 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from bodyplay.body.skeleton import Skeleton
-from bodyplay.testing import Timeline
+from bodyplay.testing import GESTURE_MOTIONS, Timeline, key_pose
 
-__all__ = ["ninja_training_clip", "silhouette_options"]
+__all__ = ["ninja_training_clip", "silhouette_options", "TRAINING_VERSION"]
+
+TRAINING_VERSION = 2
+"""Bumped whenever the generated clip changes (it is part of the file name)."""
 
 _ORDER = ("transfigure", "crouch", "step_left", "hit", "step_right", "double_hit",
           "step_right", "crouch", "step_left", "hit", "double_hit")
 
 
-def ninja_training_clip(folder: Path | None = None, fps: float = 30.0) -> Path:
-    """Write (once) and return the BVH of the five motions at speeds 0.8, 1 and 1.25."""
+def _varied_keys(sk: Skeleton, gesture: str, rng: np.random.Generator, x: float,
+                 amplitude: float, noise: float) -> list[tuple[float, NDArray[np.float64]]]:
+    """The gesture's key poses with their rotations scaled from idle and jittered."""
+    idle = key_pose("idle", sk)
+    keys = []
+    motion = GESTURE_MOTIONS[gesture]
+    assert not isinstance(motion, str)
+    for t, name in motion:
+        q = key_pose(name, sk).copy()
+        rot = idle[6:] + amplitude * (q[6:] - idle[6:])
+        moved = np.abs(q[6:] - idle[6:]) > 1e-6  # jitter the joints the motion moves
+        rot = rot + moved * rng.normal(0.0, noise, rot.shape)
+        q[6:] = rot
+        q[0] += x
+        keys.append((float(t), sk.clamp(q)))
+    return keys
+
+
+def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants: int = 6,
+                        seed: int = 0) -> Path:
+    """Write (once) and return the BVH of the five motions' varied performances."""
     from bodyplay.motion.bvh import write_bvh
 
     folder = folder or Path.home() / ".cache" / "bodyplay"
-    path = folder / "ninja_motions.bvh"
+    path = folder / f"ninja_motions_v{TRAINING_VERSION}_{variants}x_seed{seed}.bvh"
     if path.exists():
         return path
     folder.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
     sk = Skeleton()
     tl = Timeline(sk, blend=0.15).hold("idle", 0.5)
     x = 0.0
-    for speed in (0.8, 1.0, 1.25):
+    for _ in range(variants):
         for g in _ORDER:
-            tl.gesture(g, start=tl.cursor + 0.3, speed=speed, at=(x, 0.0))
+            speed = float(rng.uniform(0.75, 1.3))
+            amp = float(rng.uniform(0.8, 1.15))
+            keys = [(t / speed, q) for t, q in
+                    _varied_keys(sk, g, rng, x, amp if "step" not in g else 1.0, 0.08)]
+            tl.keys(keys, start=tl.cursor + float(rng.uniform(0.2, 0.5)), label=g)
             x += 0.5 if g == "step_left" else -0.5 if g == "step_right" else 0.0
     times = np.arange(0.0, tl.duration, 1.0 / fps)
-    return write_bvh(path, sk, tl.poses(times), fps)
+    tmp = path.with_suffix(".tmp.bvh")
+    write_bvh(tmp, sk, tl.poses(times), fps)
+    tmp.replace(path)
+    return path
 
 
 def silhouette_options(folder: Path | None = None) -> Any:
