@@ -15,7 +15,14 @@ Scripts differ by seed (order, speed 0.8-1.25, body size, pauses); seeds are spl
 two halves: ``--half tune`` is what thresholds were checked on, ``--half test`` is
 reported. ``--truth`` skips camera and tracker (the skeleton's joints).
 
+``--tracker silhouette`` tracks with the options the ninja game gives that tracker
+(its hierarchy built from the vendored clips plus the ninja's varied motions,
+apps/ninja/game/training.py; ``--plain`` for the tracker's default hierarchy);
+``--lead-in 1`` films one second of the empty room first, as the game does for
+the silhouette tracker (default 0: the player is in view from the first frame).
+
     .venv/bin/python benchmarks/ninja_gestures.py [--half test] [--scripts 3] [--truth]
+        [--tracker silhouette] [--lead-in 1] [--cache DIR]
 """
 
 from __future__ import annotations

@@ -99,3 +99,17 @@ def test_silhouette_hierarchy_also_learns_the_ninja_motions(tmp_path):
     clip = load_clip(str(ninja_training_clip(tmp_path)))
     assert clip.duration > 30.0
     assert NinjaGame().tracker_options("colorshirt") is None
+
+
+@pytest.mark.gl
+def test_silhouette_input_films_the_empty_room_before_the_virtual_ninja_steps_in(synth_gl):
+    from apps.ninja.game.game import EMPTY_ROOM_SECONDS
+
+    for tracker, empty in (("silhouette", EMPTY_ROOM_SECONDS), ("colorshirt", 0.0)):
+        game = NinjaGame()
+        opts = make_game_options(headless=True, progress=False, tracker=tracker, seconds=2.0)
+        src = game.virtual_player(opts)
+        assert src.empty_room_seconds == empty
+        assert game.player is not None
+        first = game.player.script[0]
+        assert first["gesture"] == "transfigure" and first["start"] == 1.0 + empty
