@@ -28,8 +28,10 @@ def _with_player(room: np.ndarray, x: int) -> np.ndarray:
     return img
 
 
-def test_background_learns_with_the_player_in_view_from_frame_0() -> None:
-    rng = np.random.default_rng(0)
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_background_learns_with_the_player_in_view_from_frame_0(seed: int) -> None:
+    # several rooms: the first frame's GrabCut guess differs with the texture
+    rng = np.random.default_rng(seed)
     room = _room(rng)
     model = BackgroundModel(BackgroundOptions(learn_after=6))
     xs = [100 + 12 * (i % 30) if (i // 30) % 2 == 0 else 100 + 12 * (30 - i % 30)
