@@ -126,18 +126,21 @@ def recovery(res: dict[str, Any], start: float, seconds: float, fps: float = 30.
     return -1
 
 
-def real_iou(tree: Any, folder: Path, frames: int, overlay: Path | None) -> float:
-    """Median IoU of the chosen template and the observed silhouette on a real capture."""
+def real_iou(tree: Any, folder: Path, frames: int, overlay: Path | None) -> tuple[float, int]:
+    """Median IoU of the chosen template and the observed silhouette on a real capture,
+    and the number of frames read (the Pose2Sim videos hold 100). The fuller real-footage
+    figures (four cameras, a reference mask, a 3-D proxy) are benchmarks/silhouette_real.py's."""
     from bodyplay.commands.track import draw_overlay
 
     src = open_source(folder)
     assert src.cameras is not None
     tracker = create_silhouette_tracker(SilhouetteOptions(), src.cameras[:1], tree=tree)
-    ious, writer = [], None
+    ious, writer, read = [], None, 0
     with src:
         for i, fs in enumerate(src):
             if i >= frames:
                 break
+            read += 1
             r = tracker.process(FrameSet(fs.frames[:1], fs.t, fs.index))
             sil, tpl = r.extras.get("silhouette"), r.extras.get("template")
             if sil is not None and tpl is not None:
@@ -154,7 +157,7 @@ def real_iou(tree: Any, folder: Path, frames: int, overlay: Path | None) -> floa
                 writer.write(cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
     if writer is not None:
         writer.release()
-    return float(np.median(ious)) if ious else float("nan")
+    return (float(np.median(ious)) if ious else float("nan")), read
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -234,16 +237,16 @@ def main(argv: list[str] | None = None) -> int:
         if out:
             out.mkdir(parents=True, exist_ok=True)
         cap = import_capture(p2s, work / "pose2sim_cam01", cameras=["cam01"])
-        iou = real_iou(tree, Path(cap), args.real_frames,
-                       out / "silhouette_pose2sim.mp4" if out else None)
-        print(f"real footage: pose2sim cam01, first {args.real_frames} frames: median IoU of "
+        iou, n = real_iou(tree, Path(cap), args.real_frames,
+                          out / "silhouette_pose2sim.mp4" if out else None)
+        print(f"real footage: pose2sim cam01, first {n} frames: median IoU of "
               f"the estimated pose's silhouette and the observed one {iou:.2f}")
         s2d = DATA / "video" / "sports2d"
         if s2d.is_dir():
             cap2 = import_capture(s2d, work / "sports2d", cameras=None)
-            iou2 = real_iou(tree, Path(cap2), args.real_frames,
-                            out / "silhouette_sports2d.mp4" if out else None)
-            print(f"real footage: sports2d, first {args.real_frames} frames: median IoU {iou2:.2f}")
+            iou2, n2 = real_iou(tree, Path(cap2), args.real_frames,
+                                out / "silhouette_sports2d.mp4" if out else None)
+            print(f"real footage: sports2d, first {n2} frames: median IoU {iou2:.2f}")
     return 0
 
 
