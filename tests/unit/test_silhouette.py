@@ -160,6 +160,43 @@ def test_dedup_keeps_poses_five_degrees_apart(skeleton) -> None:  # type: ignore
         assert max_angle(j, kept[owner[j]]) < 5.0 + 1e-6
 
 
+def test_mirror_pose_swaps_left_and_right_across_the_body(skeleton) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.body.joints import JOINT_NAMES
+    from bodyplay.trackers.silhouette.poses import mirror_poses
+
+    rng = np.random.default_rng(5)
+    lo, hi = skeleton.limits
+    poses = np.tile(skeleton.rest_pose(), (20, 1))
+    poses[:, 3:] = rng.uniform(np.maximum(lo[3:], -1.0), np.minimum(hi[3:], 1.0), (20, len(lo) - 3))
+    poses[:, 0] = rng.uniform(-0.5, 0.5, 20)
+    mirrored = mirror_poses(skeleton, poses)
+    swap = [JOINT_NAMES.index({"l": "r_", "r": "l_"}[n[0]] + n[2:]) if n[:2] in ("l_", "r_")
+            else k for k, n in enumerate(JOINT_NAMES)]
+    want = skeleton.joint_positions(poses)[:, swap] * np.array([-1.0, 1.0, 1.0])
+    np.testing.assert_allclose(skeleton.joint_positions(mirrored), want, atol=1e-9)
+    assert skeleton.within_limits(mirrored).all()  # the limits are left-right symmetric
+    np.testing.assert_allclose(mirror_poses(skeleton, mirrored), poses, atol=1e-12)
+
+
+@pytest.mark.parametrize("mirror", [True, False])
+def test_pose_set_covers_the_mirror_of_every_training_frame_only_when_mirrored(
+        skeleton, mirror: bool) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.poses import dedup_poses, mirror_poses, training_poses
+
+    opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.0,
+                            dedup_deg=12.0, mirror=mirror)
+    tp = training_poses(skeleton, opts)
+    assert len(tp.sequences) == (2 if mirror else 1)
+    first = tp.poses[tp.sequences[0][tp.sequences[0] >= 0]]
+    # a kept pose within the rule's angle of every mirrored frame: adding the mirrors
+    # to the kept poses keeps no new pose
+    kept, _ = dedup_poses(skeleton, np.concatenate([tp.poses, mirror_poses(skeleton, first)]),
+                          tp.dedup_deg)
+    assert (len(kept) == len(tp.poses)) == mirror
+    if mirror:  # the mirrored sequence is the mirror of the first, frame by frame
+        assert (tp.sequences[1] >= 0).sum() == (tp.sequences[0] >= 0).sum()
+
+
 def test_algorithm_1_prototypes_cover_their_clusters_within_the_threshold(
         silhouette_tree) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.trackers.silhouette.hierarchy import cluster_level, geometry_of

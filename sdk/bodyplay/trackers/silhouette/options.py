@@ -77,7 +77,9 @@ class HierarchyOptions:
     core-weighted XOR distance at that level's resolution); ``bodies``: body-size
     presets templates are rendered for; ``metres_per_px``: window scale at level 3;
     ``camera_height``/``camera_distance``: the canonical view templates are
-    rendered from.
+    rendered from; ``mirror``: every clip is also used mirrored left-right (a wave
+    of the right hand gives one of the left; the mirrored clips enter the
+    transition histograms as sequences of their own).
     """
 
     clips: tuple[str, ...] = ()
@@ -93,6 +95,7 @@ class HierarchyOptions:
     camera_distance: float = 3.0
     max_poses: int = 12_000
     seed: int = 0
+    mirror: bool = False
 
     def __post_init__(self) -> None:
         if len(self.thresholds) != 3 or any(t <= 0 for t in self.thresholds):
@@ -105,8 +108,12 @@ class HierarchyOptions:
             raise ConfigError("random_share must be within 0..2")
 
     def key_items(self) -> list[tuple[str, object]]:
-        """The options as sorted (name, value) pairs, for the cache key."""
-        return sorted(asdict(self).items())
+        """The options as sorted (name, value) pairs, for the cache key (``mirror`` only
+        when on, so the hierarchies cached before it existed stay valid)."""
+        items = asdict(self)
+        if not self.mirror:
+            del items["mirror"]
+        return sorted(items.items())
 
 
 @dataclass(frozen=True)

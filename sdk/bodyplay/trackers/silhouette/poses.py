@@ -27,7 +27,7 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.silhouette.options import HierarchyOptions
 
-__all__ = ["TrainingPoses", "training_poses", "dedup_poses", "clip_fingerprint"]
+__all__ = ["TrainingPoses", "training_poses", "dedup_poses", "clip_fingerprint", "mirror_poses"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,6 +127,28 @@ def _face_camera(poses: NDArray[np.float64], yaw: float) -> NDArray[np.float64]:
     return out
 
 
+def mirror_poses(skeleton: Skeleton, poses: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Poses mirrored left-right (through the body's sagittal plane x = 0).
+
+    The reflection diag(-1, 1, 1) turns a rotation vector (x, y, z) into (x, -y, -z)
+    and the root position's x into -x; every ``l_`` node takes its ``r_`` partner's
+    mirrored rotation and the other way round. The skeleton's rest offsets and
+    joint limits are left-right symmetric, so a pose within the limits stays so.
+    """
+    names = skeleton.node_names
+    src = np.arange(len(names))
+    for i, n in enumerate(names):
+        if n.startswith(("l_", "r_")):
+            src[i] = names.index(("r_" if n[0] == "l" else "l_") + n[2:])
+    p = np.asarray(poses, np.float64)
+    rv = p[..., 3:].reshape(*p.shape[:-1], len(names), 3)[..., src, :].copy()
+    rv[..., 1:] *= -1.0
+    out = p.copy()
+    out[..., 0] *= -1.0
+    out[..., 3:] = rv.reshape(*p.shape[:-1], 3 * len(names))
+    return out
+
+
 def training_poses(skeleton: Skeleton, options: HierarchyOptions) -> TrainingPoses:
     """Clip frames (turned by each yaw offset), thinned by the 5-degree rule, plus
     joint-limit-aware random upper bodies (see the module docstring)."""
@@ -142,11 +164,15 @@ def training_poses(skeleton: Skeleton, options: HierarchyOptions) -> TrainingPos
             clip = clip.resample(options.clip_fps)
         for yaw in options.yaw_offsets_deg:
             seqs.append(skeleton.clamp(_face_camera(clip.poses, float(np.radians(yaw)))))
+    n_clip_frames = sum(len(s) for s in seqs)
+    if options.mirror:
+        seqs += [skeleton.clamp(mirror_poses(skeleton, s)) for s in seqs]
     frames = np.concatenate(seqs)
     fwd = Rotation.from_rotvec(frames[:, 3:6]).apply([0.0, 0.0, 1.0])
     facing = np.abs(np.degrees(np.arctan2(fwd[:, 0], fwd[:, 2]))) <= options.max_yaw_deg
     rng = np.random.default_rng(options.seed)
-    n_rand = int(round(options.random_share * len(frames) / max(1, len(options.yaw_offsets_deg))))
+    n_rand = int(round(options.random_share * n_clip_frames
+                       / max(1, len(options.yaw_offsets_deg))))
     extra = (random_upper_body(skeleton, n_rand, rng, yaw_range=(-np.pi / 4, np.pi / 4),
                                max_tilt=0.1) if n_rand else np.zeros((0, skeleton.pose_dim)))
     allp = np.concatenate([frames[facing], extra])
