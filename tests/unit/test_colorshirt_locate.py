@@ -135,3 +135,20 @@ def test_locator_centres_on_one_of_two_shirts_not_between_them() -> None:
     near = [abs(loc.x - (x + 60)) < 25 and abs(loc.y - (y + 75)) < 25
             for x, y in ((40, 60), (460, 250))]
     assert any(near)  # the weighted average stays with the best window's region
+
+
+def test_background_mask_tells_whether_a_box_moved() -> None:
+    rng = np.random.default_rng(13)
+    room = clutter(240, 320, rng)
+    bg = BackgroundMask(warmup=3)
+    box = (100, 60, 180, 160)
+    assert bg.moving(box) is None  # nothing seen yet
+    for _ in range(6):
+        bg.apply(room)
+    still = bg.moving(box)
+    assert still is not None and still < 0.01
+    moved = room.copy()
+    paint_shirt(moved, 110, 70, 12, rng)
+    bg.apply(moved)
+    now = bg.moving(box)
+    assert now is not None and now > 0.2

@@ -281,6 +281,22 @@ class BackgroundMask:
             history=self.history, varThreshold=16, detectShadows=False
         )
         self._frames = 0
+        self.raw: NDArray[np.bool_] | None = None
+        """The last frame's undilated foreground at the model's resolution (None
+        during the warm-up), also when :meth:`apply` returned None."""
+
+    def moving(self, box: tuple[int, int, int, int]) -> float | None:
+        """Share of the last frame's pixels inside ``box`` (full-resolution px) that
+        the model saw change (None during the warm-up or for an empty box)."""
+        if self.raw is None:
+            return None
+        d = self.downscale
+        h, w = self.raw.shape
+        x0, y0 = max(box[0] // d, 0), max(box[1] // d, 0)
+        x1, y1 = min(-(-box[2] // d), w), min(-(-box[3] // d), h)
+        if x1 <= x0 or y1 <= y0:
+            return None
+        return float(self.raw[y0:y1, x0:x1].mean())
 
     def reduce(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
         """``image`` at the model's resolution (what :meth:`apply` works on)."""
@@ -302,7 +318,9 @@ class BackgroundMask:
         fg = self._sub.apply(small)
         self._frames += 1
         if self._frames <= self.warmup:
+            self.raw = None
             return None
+        self.raw = fg > 0
         fg = cv2.dilate((fg > 0).astype(np.uint8), np.ones((5, 5), np.uint8))
         if fg.mean() < self.min_fraction:
             return None

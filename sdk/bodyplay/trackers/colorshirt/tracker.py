@@ -97,6 +97,9 @@ _ROOT_HEIGHT = (0.3, 1.6)
 camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
 pile of clothes on the floor, 5 m too far) put the root deep under the floor."""
 
+_STILL_FRACTION = 0.01
+"""Below this share of changed pixels (MOG2) the tracked shirt's box counts as still."""
+
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
 
@@ -240,6 +243,10 @@ class ColorShirtTracker:
         if reduced is not None and o.room_plate:
             st.room.start(reduced)
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
+        if st.last_box is not None and o.background_subtraction:
+            moved = st.background.moving(st.last_box)
+            if moved is not None:
+                st.still = st.still + 1 if moved < _STILL_FRACTION else 0
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
         if mask is not None and st.last_box is not None:
@@ -464,9 +471,20 @@ class ColorShirtTracker:
         self._last_t = frames.t
         check_frame_set(frames, self.cameras)
         before = [None if st.W is None else st.W.copy() for st in self._cams]
+        tracked = [st for st in self._cams if st.last_box is not None]
+        if tracked and all(st.still >= self.options.still_frames for st in tracked):
+            # nothing moved where the shirt is thought to be: a poster or clothes in
+            # shirt colors, not a player; forget it and search again
+            self.diagnostics["static"] = True
+            for st in self._cams:
+                st.gate = st.last_box = None
+            self._reported = None
+            self._prev = None
         for st in self._cams:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
+            if st.last_box is None:
+                st.still = 0
         views = [v for i, fr in enumerate(frames)
                  if (v := self._view(i, fr.image, frames.t)) is not None]
         if self.options.adaptive_white_balance:
