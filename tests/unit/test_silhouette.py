@@ -114,6 +114,26 @@ def test_distance_grows_with_offset() -> None:
     assert all(b > a for a, b in zip(d, d[1:], strict=False))
 
 
+def _figure_with_arm(arm_dx: int | None) -> np.ndarray:
+    m = np.zeros((120, 80), np.uint8)
+    m[40:110, 32:48] = 1  # torso and legs
+    m[25:40, 36:44] = 1  # head
+    if arm_dx is not None:
+        m[8:45, 50 + arm_dx : 54 + arm_dx] = 1  # a thin arm raised beside the head
+    return m
+
+
+def test_default_beta_prefers_a_raised_arm_slightly_off_to_no_arm() -> None:
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+
+    observed = _figure_with_arm(0)
+    paper = distance_maps(observed, beta=1.0)
+    # eq. 10-11 with the paper's beta = 1: leaving the thin arm out is the cheaper error
+    assert score_direct(paper, _figure_with_arm(None)) < score_direct(paper, _figure_with_arm(2))
+    ours = distance_maps(observed, beta=SilhouetteOptions().beta)
+    assert score_direct(ours, _figure_with_arm(2)) < score_direct(ours, _figure_with_arm(None))
+
+
 def test_matrix_product_and_runs_equal_direct_scoring() -> None:
     rng = np.random.default_rng(2)
     maps = distance_maps(_blob(), unknown=(rng.random((80, 60)) < 0.05).astype(np.uint8))
@@ -289,6 +309,8 @@ def test_options_reject_nonsense() -> None:
         BackgroundOptions(rate=2.0)
     with pytest.raises(ConfigError, match="protect_radius"):
         SilhouetteOptions(protect_radius=1.5)
+    with pytest.raises(ConfigError, match="beta"):
+        SilhouetteOptions(beta=0.0)
 
 
 def test_factory_needs_a_camera_and_uses_the_first_of_a_rig(silhouette_tree) -> None:  # type: ignore[no-untyped-def]

@@ -196,7 +196,9 @@ class SilhouetteTracker:
             self._started = frames.t
         off = win.ground - self._cam.center
         self._distance = float(np.hypot(off[0], off[2]))
-        maps = tuple(distance_maps(win.foreground[lv], win.unknown[lv]) for lv in range(3))
+        beta = self.options.beta
+        maps = tuple(distance_maps(win.foreground[lv], win.unknown[lv], beta=beta)
+                     for lv in range(3))
         stages["distances"] = time.perf_counter() - tic
         tic = time.perf_counter()
         step = self._filter_step(maps, win.foreground[2])  # type: ignore[arg-type]
