@@ -172,7 +172,7 @@ class SilhouetteTracker:
             sil = Silhouette(person, sil.unknown | dropped, sil.scale, region)
         start = self._started is None or frames.t - self._started < self.options.bootstrap_time
         win, ok = self._floor_window(sil, cap, start)
-        guessed = getattr(self.background, "player", None)
+        guessed = self.background.player
         floor_ok = True
         if ok and win is not None and guessed is not None and not self._feet_like(win):
             # the first frame's guess, resolved as the player, took something wide under
