@@ -244,7 +244,7 @@ def test_option_overrides_convert_strings_to_each_fields_type() -> None:
     ("locate.taux=1", "unknown locate option 'taux'"),
     ("max_speed", "NAME=VALUE"),
     ("pose_prior=maybe", "pose_prior: cannot read 'maybe'"),
-    ("ik_rounds=two", "ik_rounds: cannot read"),
+    ("arm_library=two", "arm_library: cannot read"),
     ("max_speed=-1", "max_speed must be a positive"),
 ])
 def test_option_overrides_reject_unknown_names_and_bad_values(item: str, message: str) -> None:

@@ -56,7 +56,6 @@ __all__ = [
     "shirt_color_face_ids",
     "mismatch",
     "blend_poses",
-    "render_normalized",
 ]
 
 _FORMAT_VERSION = 4
@@ -404,20 +403,6 @@ class PoseDatabase:
         return cls(options, data["poses"], ids, data["root_crop"], data["root_depth"],
                    data["crop_scale"], data["pca_mean"], data["pca_basis"],
                    np.ascontiguousarray(feats, np.float32))
-
-
-def render_normalized(
-    skeleton: Skeleton, poses: NDArray[np.float64], camera: Camera, options: DatabaseOptions
-) -> NDArray[np.uint8]:
-    """(B, S, S) color id maps of world poses seen by ``camera``, normalized like the database."""
-    mesh = body_mesh(skeleton)
-    verts = mesh.pose(skeleton, np.atleast_2d(poses))
-    S = options.map_size
-    uvz, _, _ = _project_crops(verts, camera.R, camera.t, camera.K, shirt_vertex_mask(mesh), S,
-                               options.margin)
-    out = rasterize_ids(uvz, mesh.faces, shirt_color_face_ids(mesh), S, S)
-    assert isinstance(out, np.ndarray)
-    return out
 
 
 def build_database(

@@ -441,17 +441,15 @@ class KinematicSolver:
         prior: PriorModel | None,
         q_prev: NDArray[np.float64] | None,
         max_nfev: int = 10,
-        q_start: NDArray[np.float64] | None = None,
         root_priors: tuple[RootPrior, ...] = (),
     ) -> NDArray[np.float64]:
         """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
 
-        Starts from ``q_start`` (default the blend). Without a prior model only a
+        Starts from the blend. Without a prior model only a
         weak regularizer towards the blend remains (the ablation of the paper's
         comparison against its predecessor).
         """
-        start = q_blend if q_start is None else q_start
-        qd, R0 = self._with_delta_root(start)
+        qd, R0 = self._with_delta_root(q_blend)
         free = self._free_ik
 
         def as_delta(q: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -34,9 +34,6 @@ class ColorShirtOptions:
       the overall gain of the white balance (``det(W) ** (1/3)``, at least 1):
       an image the balance must amplify is noisier, so the pose prior counts more
       (beyond the paper; 0 = the paper).
-    * ``multiview_lookup``: with several cameras, rank all cameras' neighbours by
-      their mismatch in every camera before blending (else: the best camera's).
-    * ``ik_rounds``: IK solves per frame, re-anchoring the patches in between.
     * ``wb_smoothing``: weight of the previous ``W`` when the refitted ``W*`` replaces it.
     * ``background_subtraction``: MOG2 foreground mask for search and classification.
     * ``work_size``: largest side (px) of the working crop the shirt is classified in;
@@ -162,8 +159,6 @@ class ColorShirtOptions:
     retry_fraction: float = 0.4
     reference_distance: float = 0.5
     wb_smoothing: float = 0.5
-    ik_rounds: int = 1
-    multiview_lookup: bool = False
     background_subtraction: bool = True
     work_size: int = 128
     crop_margin: float = 2.6
@@ -226,8 +221,6 @@ class ColorShirtOptions:
             raise ConfigError("work_size must be between 24 and 640 pixels")
         if self.crop_margin < 1.0:
             raise ConfigError("crop_margin must be at least 1 (the located window itself)")
-        if not 1 <= self.ik_rounds <= 5:
-            raise ConfigError("ik_rounds must be between 1 and 5")
         for name, value in (("wb_smoothing", self.wb_smoothing),
                             ("blob_fraction", self.blob_fraction),
                             ("blob_attach", self.blob_attach),

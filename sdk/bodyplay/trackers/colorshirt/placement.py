@@ -5,7 +5,9 @@ together with where their root falls in the normalized 40x40 map and how deep it
 is. A camera's query tells where the shirt is in that camera's image and how large:
 that fixes each entry's root in the world (the ray through the root, at the depth
 that makes the shirt as large as observed) and its orientation (same relation to
-the camera as to the canonical one).
+the camera as to the canonical one). With several cameras the root is triangulated
+instead: the point nearest to every camera's ray through where its own blend puts
+the root (the shirt's apparent size is a guess of depth; a second camera sees it).
 """
 
 from __future__ import annotations
@@ -14,18 +16,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
-from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.database import (
+    BlendedPose,
     PoseDatabase,
-    blend_poses,
     canonical_camera,
-    mismatch,
-    render_normalized,
 )
 from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["DatabasePlacement"]
+
+_RAY_GAP = 0.25
+"""Metres: the cameras' rays through their blends' roots must pass this close to the
+triangulated root (else the views disagree and the leading camera places it)."""
 
 
 class DatabasePlacement:
@@ -58,39 +61,56 @@ class DatabasePlacement:
         q[:, 3:6] = matrix_to_rotvec(R_body)
         return q
 
-    def place(self, view: CameraView) -> NDArray[np.float64]:
-        """Blend ``view``'s neighbours and place the blend in the world through its camera."""
-        b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
-        return self.place_entries(view, b.pose[None], b.root_crop[None],
-                                  np.array([b.root_depth]), np.array([b.crop_scale]))[0]
+    def place(self, view: CameraView, others: list[CameraView] | None = None
+              ) -> NDArray[np.float64]:
+        """Blend ``view``'s neighbours and place the blend in the world through its camera.
 
-    def multiview_blend(self, views: list[CameraView], skeleton: Skeleton
-                        ) -> NDArray[np.float64]:
-        """With several cameras, rank every camera's neighbours by their mismatch in all.
-
-        Each candidate is placed through the camera that proposed it, rendered (with
-        ``skeleton``) as a normalized 40x40 map in every camera and scored by its
-        summed mismatch against the cameras' queries; the best ``neighbours`` are
-        blended in world coordinates. A pose that only one view explains (an arm
-        hidden in it) loses.
+        With ``others`` (the other cameras' views of the same frame) the root is
+        triangulated: the point nearest to the rays through where each view's own
+        blend puts the root. The leading camera alone places the root at the depth
+        where the blend's shirt looks as large as observed, which a bow or a lean
+        (the shirt foreshortened) reads as far: on the validation set's bow clip the
+        blend stood 1.2 m behind the player, projected outside the second camera's
+        crop, and the fit then saw the shirt in one camera only. The triangulated
+        root is kept when the rays pass within ``_RAY_GAP`` of it, in front of every
+        camera; otherwise the leading camera's placement stands.
         """
-        db = self.database
-        seen: set[int] = set()
-        placed = []
-        for v in views:
-            idx = np.array([i for i in v.neighbours.index if i not in seen])  # type: ignore[attr-defined]
-            if not len(idx):
-                continue
-            seen.update(int(i) for i in idx)
-            placed.append(self.place_entries(
-                v, db.poses[idx].astype(np.float64), db.root_crop[idx].astype(np.float64),
-                db.root_depth[idx].astype(np.float64), db.crop_scale[idx].astype(np.float64)))
-        Q = np.concatenate(placed)
-        total = np.zeros(len(Q))
-        for v in views:
-            assert v.query is not None
-            maps = render_normalized(skeleton, Q, self.cameras[v.index], db.options)
-            total += mismatch(maps, v.query[None]) / float(v.query.size)
-        total /= len(views)
-        best = np.argsort(total, kind="stable")[: db.options.neighbours]
-        return blend_poses(Q[best], 1.0 / (total[best] + 0.02))
+        b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
+        q = self.place_entries(view, b.pose[None], b.root_crop[None],
+                               np.array([b.root_depth]), np.array([b.crop_scale]))[0]
+        if others:
+            root = self._triangulate([view, *others], b)
+            if root is not None:  # along the leading camera's ray, to the triangulated depth
+                cam = self.cameras[view.index]
+                z0 = float(cam.world_to_camera(q[:3])[2])
+                z1 = float(cam.world_to_camera(root)[2])
+                if z0 > 0.3:
+                    q[:3] = cam.center + (q[:3] - cam.center) * (z1 / z0)
+        return q
+
+    def _triangulate(self, views: list[CameraView], lead: BlendedPose
+                     ) -> NDArray[np.float64] | None:
+        """The point nearest to every view's ray through its blend's root, or None when
+        the rays miss each other by more than ``_RAY_GAP`` or meet behind a camera."""
+        centres, dirs = [], []
+        for i, v in enumerate(views):
+            b = lead if i == 0 else self.database.blend(v.neighbours)  # type: ignore[arg-type]
+            cam = self.cameras[v.index]
+            uv = v.window.to_image((b.root_crop - v.query_offset) / v.query_scale)
+            d = cam.R.T @ (np.linalg.inv(cam.K) @ np.array([uv[0], uv[1], 1.0]))
+            centres.append(cam.center)
+            dirs.append(d / np.linalg.norm(d))
+        A = np.zeros((3, 3))
+        rhs = np.zeros(3)
+        for c, d in zip(centres, dirs, strict=True):
+            P = np.eye(3) - np.outer(d, d)
+            A += P
+            rhs += P @ c
+        if np.linalg.cond(A) > 1e6:
+            return None
+        p = np.asarray(np.linalg.solve(A, rhs), dtype=np.float64)
+        for c, d in zip(centres, dirs, strict=True):
+            along = float((p - c) @ d)
+            if along <= 0.3 or np.linalg.norm(p - c - along * d) > _RAY_GAP:
+                return None
+        return p

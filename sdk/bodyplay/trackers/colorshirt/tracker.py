@@ -691,10 +691,8 @@ class ColorShirtTracker:
         from the arm-length stage on, 9.49 after it).
         """
         o = self.options
-        if len(views) > 1 and o.multiview_lookup:
-            q_b = self.placement.multiview_blend(views, self.skeleton)
-        else:
-            q_b = self.placement.place(min(views, key=lambda v: v.distance))
+        lead = min(views, key=lambda v: v.distance)
+        q_b = self.placement.place(lead, [v for v in views if v is not lead])
         verts = self.renderer.vertices(q_b)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         observed = [self._observed_by_color(v, r) for v, r in zip(views, rendered, strict=True)]
@@ -725,17 +723,11 @@ class ColorShirtTracker:
         q = q_b
         prior = self.prior if o.pose_prior else None
         prev = prev_q if o.pose_prior else None
-        for round_ in range(o.ik_rounds):
-            if len(anchors) < 3:
-                break
-            q = self.solver.solve_ik(q_b, anchors, prior, prev, q_start=q,
-                                     root_priors=root_priors)
-            # the visible part of each patch changes with the pose: re-anchor
-            verts = self.renderer.vertices(q)
-            rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
-                        for v in views]
-            if round_ + 1 < o.ik_rounds:
-                anchors = join_anchors(self._anchors(q, views, rendered, observed), heads)
+        if len(anchors) >= 3:
+            q = self.solver.solve_ik(q_b, anchors, prior, prev, root_priors=root_priors)
+        # the final pose's render: the white balance is refitted where it agrees
+        verts = self.renderer.vertices(q)
+        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
         self.diagnostics["anchors"] = anchors
         # the residual that chooses the body: with two cameras, the last anchors with
