@@ -64,8 +64,9 @@ class ColorShirtOptions:
       seconds after it; the search for the shirt starts there too, and the whole
       frame is searched after.
     * ``still_frames``: after this many frames in a row in which the background
-      model saw nothing move in the tracked shirt's box in any camera, it is taken
-      for the room (clutter in shirt colors) and the shirt is searched anew.
+      model saw nothing move in the tracked shirt's box in any camera, a track
+      whose last pose fitted poorly (above ``good_residual``) is taken for the room
+      (clutter in shirt colors) and the shirt is searched anew.
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of

@@ -182,6 +182,8 @@ class ColorShirtTracker:
                 st.references.add(st.W)
         self._prev: NDArray[np.float64] | None = None
         self._ever_reported = False
+        self._good = False
+        """Whether the last pose reported fitted well (``good_residual``)."""
         self._unreached: tuple[float, NDArray[np.float64]] | None = None
         """Time and root of the last fit the speed gate rejected."""
         self._last_t: float | None = None
@@ -472,9 +474,12 @@ class ColorShirtTracker:
         check_frame_set(frames, self.cameras)
         before = [None if st.W is None else st.W.copy() for st in self._cams]
         tracked = [st for st in self._cams if st.last_box is not None]
-        if tracked and all(st.still >= self.options.still_frames for st in tracked):
-            # nothing moved where the shirt is thought to be: a poster or clothes in
-            # shirt colors, not a player; forget it and search again
+        if (tracked and not self._good
+                and all(st.still >= self.options.still_frames for st in tracked)):
+            # nothing moved where a poorly fitting shirt is thought to be: a poster or
+            # clothes in shirt colors, not a player; forget it and search again (a
+            # player standing still is fitted well: the benchmark's dance clip ends
+            # still, and dropping its good fits lost 12 frames)
             self.diagnostics["static"] = True
             for st in self._cams:
                 st.gate = st.last_box = None
@@ -547,7 +552,8 @@ class ColorShirtTracker:
         self._reported = (frames.t, fit.q[:3].copy())
         self._remember_shirt(fit.q, frames.t)
         self._unreached = None
-        self._learn_room(fit.q if fit.residual <= self.options.good_residual else None)
+        self._good = fit.residual <= self.options.good_residual
+        self._learn_room(fit.q if self._good else None)
         self._ever_reported = True
         if lone is not None:
             self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")))
