@@ -79,7 +79,12 @@ class HierarchyOptions:
     ``camera_height``/``camera_distance``: the canonical view templates are
     rendered from; ``mirror``: every clip is also used mirrored left-right (a wave
     of the right hand gives one of the left; the mirrored clips enter the
-    transition histograms as sequences of their own).
+    transition histograms as sequences of their own); ``recombine_share``:
+    recombined motion (:mod:`.recombine`: each body part of a stretch of real
+    motion follows, with probability ``recombine_swap``, another stretch of any
+    clip or its mirror, time-warped, or with probability ``recombine_random``
+    moves between random configurations within the joint limits), as a share
+    of the clip frames (0: none).
     """
 
     clips: tuple[str, ...] = ()
@@ -96,8 +101,17 @@ class HierarchyOptions:
     max_poses: int = 12_000
     seed: int = 0
     mirror: bool = False
+    recombine_share: float = 0.0
+    recombine_swap: float = 0.5
+    recombine_random: float = 0.2
 
     def __post_init__(self) -> None:
+        if not 0 <= self.recombine_share <= 10:
+            raise ConfigError("recombine_share must be within 0..10 (a share of the clip frames)")
+        if not (0 <= self.recombine_swap <= 1 and 0 <= self.recombine_random <= 1
+                and self.recombine_swap + self.recombine_random <= 1):
+            raise ConfigError("recombine_swap and recombine_random are probabilities whose "
+                              "sum is at most 1")
         if len(self.thresholds) != 3 or any(t <= 0 for t in self.thresholds):
             raise ConfigError("thresholds must be three positive distances (levels 1..3)")
         if not self.bodies:
@@ -108,11 +122,15 @@ class HierarchyOptions:
             raise ConfigError("random_share must be within 0..2")
 
     def key_items(self) -> list[tuple[str, object]]:
-        """The options as sorted (name, value) pairs, for the cache key (``mirror`` only
-        when on, so the hierarchies cached before it existed stay valid)."""
+        """The options as sorted (name, value) pairs, for the cache key (``mirror`` and
+        the recombination only when on, so the hierarchies cached before they existed
+        stay valid)."""
         items = asdict(self)
         if not self.mirror:
             del items["mirror"]
+        if not self.recombine_share:
+            for k in ("recombine_share", "recombine_swap", "recombine_random"):
+                del items[k]
         return sorted(items.items())
 
 
@@ -161,6 +179,12 @@ class SilhouetteOptions:
     for the floor point only when no row of its lowest ``foot_band`` m is wider,
     filled, than ``max_foot_width`` m (feet and shins; GrabCut can take a dark treadmill
     or sofa under the player for the figure, which would put the player too near);
+    ``arm_candidates``: size of the arm atlas each arm of the chosen pose is
+    searched in on its own after the tree filter (:mod:`.armfit`; 0 turns the
+    refinement off), ``arm_stay`` the cost per window pixel (level 2) an atlas arm's
+    elbow and wrist move from the tree's arm, ``arm_margin`` how much cheaper (sum
+    of eq. 11's per-pixel term) it must be to replace it (on the tune clips: off
+    12.9 cm mean of clip medians, 11.1 with these);
     ``cache``: hierarchy cache folder.
     """
 
@@ -190,9 +214,15 @@ class SilhouetteOptions:
     stature_tolerance: float = 0.05
     max_foot_width: float = 0.6
     foot_band: float = 0.25
+    arm_candidates: int = 1000
+    arm_stay: float = 3.0
+    arm_margin: float = 100.0
     cache: str | None = None
 
     def __post_init__(self) -> None:
+        if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:
+            raise ConfigError("arm_candidates (0: no per-arm refinement), arm_stay and "
+                              "arm_margin must be >= 0")
         if self.sigma <= 0 or self.occlusion_m < 1:
             raise ConfigError("sigma must be > 0 and occlusion_m >= 1")
         if not 0 <= self.transition_weight <= 1 or not 0 < self.uniform < 1:

@@ -9,7 +9,9 @@ and a game's player faces the screen. The paper's rule "only poses are stored
 that differ at least 5 degrees in any joint angle from other poses" thins them
 (:func:`dedup_poses`); every dropped frame maps to the kept pose that covered it.
 Joint-limit-aware random upper bodies (:func:`bodyplay.motion.random_upper_body`)
-add arm poses the clips lack.
+add arm poses the clips lack, and with ``recombine_share`` the clips' limbs are
+recombined into new motion (:mod:`.recombine`: one arm waving while the body
+stands, a leg kicking), faced to the camera at a random yaw within the yaw offsets.
 """
 
 from __future__ import annotations
@@ -158,21 +160,33 @@ def training_poses(skeleton: Skeleton, options: HierarchyOptions) -> TrainingPos
     if not names:
         raise ConfigError("no motion clips to build the shape hierarchy from")
     seqs: list[NDArray[np.float64]] = []
+    clip_poses: list[NDArray[np.float64]] = []
     for name in names:
         clip = load_clip(name, skeleton, fps=options.clip_fps)
         if abs(clip.fps - options.clip_fps) > 1e-6:
             clip = clip.resample(options.clip_fps)
+        clip_poses.append(skeleton.clamp(clip.poses))
         for yaw in options.yaw_offsets_deg:
             seqs.append(skeleton.clamp(_face_camera(clip.poses, float(np.radians(yaw)))))
     n_clip_frames = sum(len(s) for s in seqs)
     if options.mirror:
         seqs += [skeleton.clamp(mirror_poses(skeleton, s)) for s in seqs]
+    rng = np.random.default_rng(options.seed)
+    n_yaws = max(1, len(options.yaw_offsets_deg))
+    if options.recombine_share > 0:
+        from bodyplay.trackers.silhouette.recombine import recombined_sequences
+
+        sources = [p for c in clip_poses for p in (c, mirror_poses(skeleton, c))]
+        yaws = np.radians(options.yaw_offsets_deg)
+        for seq in recombined_sequences(
+                skeleton, sources, int(round(options.recombine_share * n_clip_frames / n_yaws)),
+                rng, swap=options.recombine_swap, random_limb=options.recombine_random):
+            seqs.append(skeleton.clamp(_face_camera(seq, float(rng.uniform(yaws.min(),
+                                                                            yaws.max())))))
     frames = np.concatenate(seqs)
     fwd = Rotation.from_rotvec(frames[:, 3:6]).apply([0.0, 0.0, 1.0])
     facing = np.abs(np.degrees(np.arctan2(fwd[:, 0], fwd[:, 2]))) <= options.max_yaw_deg
-    rng = np.random.default_rng(options.seed)
-    n_rand = int(round(options.random_share * n_clip_frames
-                       / max(1, len(options.yaw_offsets_deg))))
+    n_rand = int(round(options.random_share * n_clip_frames / n_yaws))
     extra = (random_upper_body(skeleton, n_rand, rng, yaw_range=(-np.pi / 4, np.pi / 4),
                                max_tilt=0.1) if n_rand else np.zeros((0, skeleton.pose_dim)))
     allp = np.concatenate([frames[facing], extra])

@@ -44,8 +44,9 @@ from bodyplay.trackers.base import (
     check_frame_set,
     lost_result,
 )
+from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
-from bodyplay.trackers.silhouette.distance import distance_maps
+from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
@@ -74,6 +75,16 @@ def _head_top(mask: NDArray[np.uint8], half: float = 0.03) -> float | None:
     a, b = int(round(w * (0.5 - half))), int(round(w * (0.5 + half))) + 1
     rows = np.flatnonzero(np.asarray(mask)[:, a:b].any(axis=1))
     return float(rows[0]) if rows.size else None
+
+
+def _moved(mask: NDArray[np.uint8], shift: tuple[int, int]) -> NDArray[np.uint8]:
+    """``mask`` moved by whole pixels (x right, y down), zeros coming in."""
+    out = np.zeros_like(mask)
+    h, w = mask.shape
+    dx, dy = shift
+    out[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = \
+        mask[max(-dy, 0):h + min(-dy, 0), max(-dx, 0):w + min(-dx, 0)]
+    return out
 
 
 @dataclass
@@ -128,6 +139,9 @@ class SilhouetteTracker:
         self._distance: float | None = None
         self._started: float | None = None
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
+        self._fitters: dict[str, ArmFitter] = {}
+        self._atlas: NDArray[np.float64] | None = None
+        self._maps_now: tuple[DistanceMaps, ...] = ()
         self._short: dict[str, float] = {}
 
     # ---- the pipeline -------------------------------------------------------------
@@ -202,6 +216,7 @@ class SilhouetteTracker:
         stages["distances"] = time.perf_counter() - tic
         tic = time.perf_counter()
         step = self._filter_step(maps, win.foreground[2])  # type: ignore[arg-type]
+        self._maps_now = maps
         stages["tree"] = time.perf_counter() - tic
         if step.distance > 4.0 * self.tree.options.thresholds[2]:
             self._bad += 1
@@ -357,6 +372,8 @@ class SilhouetteTracker:
                 pose[0:3] = R_align @ bt.offset[leaf] + ground + lift
                 pose[3:6] = (Rotation.from_matrix(R_align) * Rotation.from_rotvec(q[3:6])
                              ).as_rotvec()
+        if self.options.arm_candidates:
+            joints, pose = self._refine_arms(body, step, joints, pose, R_align, ground + lift)
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
             a = self.options.smooth
             joints = a * self._last.joints + (1 - a) * joints
@@ -374,6 +391,51 @@ class SilhouetteTracker:
         conf *= float(np.exp(-step.distance / (4.0 * tree.options.thresholds[2])))
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
+
+    def _refine_arms(self, body: str, step: FilterStep, joints: NDArray[np.float64],
+                     pose: NDArray[np.float64], R_align: NDArray[np.float64],
+                     at: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Each arm of the MAP leaf searched on its own (:mod:`.armfit`); a replaced
+        arm's joints take the place of the blended ones."""
+        fitter = self._fitters.get(body)
+        if fitter is None:
+            if self._atlas is None:
+                from bodyplay.trackers.silhouette.poses import mirror_poses
+
+                ref = self._skeletons[body]
+                self._atlas = arm_atlas(ref, [self.tree.poses, mirror_poses(ref, self.tree.poses)],
+                                        self.options.arm_candidates, np.random.default_rng(0))
+            fitter = ArmFitter(self._skeletons[body], self.geometry, self._atlas,
+                               stay=self.options.arm_stay, margin=self.options.arm_margin)
+            self._fitters[body] = fitter
+        bt = self.tree.bodies[body]
+        lv = fitter.level
+        f = 2.0 ** (lv - 2)
+        sh = (step.shift[0] * f, step.shift[1] * f)
+        tmpl = _moved(bt.runs[2].masks(np.array([step.leaf]))[0], step.shift)
+        if lv != 2:  # the leaf's own template (level 3) at the fitter's level
+            w, h = self.geometry.size(lv)
+            tmpl = (cv2.resize(tmpl.astype(np.float32), (w, h), interpolation=cv2.INTER_AREA)
+                    >= 0.5).astype(np.uint8)
+        sk = self._skeletons[body]
+        q = self.tree.poses[self.tree.node_pose[2][step.leaf]].copy()
+        q[1] *= sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
+        origin = q[0:3] - bt.offset[step.leaf]
+        reference = (joints - at) @ R_align  # the blended joints, template frame
+        fit = fitter.fit(q, origin, tmpl, self._maps_now[lv].cost, sh, reference)
+        if not any(fit.replaced):
+            return joints, pose
+        J = (sk.joint_positions(fit.pose) - origin) @ R_align.T + at
+        joints = joints.copy()
+        pose = pose.copy()
+        for s, side in enumerate("lr"):
+            if fit.replaced[s]:  # the refined arm hangs from the (blended) shoulder
+                top = JOINT_INDEX[f"{side}_shoulder"]
+                for n in ("elbow", "wrist"):
+                    j = JOINT_INDEX[f"{side}_{n}"]
+                    joints[j] = joints[top] + J[j] - J[top]
+                pose[fitter.cols[s]] = fit.pose[fitter.cols[s]]
+        return joints, pose
 
     def _back_project(self, bt: object, leaf: int, shift: tuple[int, int], win: ObservedWindow,
                       sil: Silhouette) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:

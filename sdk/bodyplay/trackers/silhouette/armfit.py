@@ -1,0 +1,260 @@
+"""Per-arm refinement of the tree filter's pose against the silhouette (an addition to
+the paper).
+
+The tree holds whole-body templates: a pose is only found if some training pose has
+*both* arms, the torso, the legs and the heading of the player at once. The
+vendored clips never raise one arm while the body stands, so a wave or a raised
+hand is answered with the arm down (measured on the tune clips: the right wrist 88
+cm off on wave-right-hand; the best leaf of the whole tree by silhouette distance
+has it down too). A silhouette shows each arm separately, and the distance of eq.
+10-11 is linear in the template mask, so an arm can be searched on its own:
+
+* the body without the arm: the MAP leaf's template less the arm's own capsules
+  (upper arm, forearm, hand as thick segments of the body's measured radii);
+* every arm of an *atlas* (configurations spread evenly over where an arm can put
+  its elbow and wrist, :func:`arm_atlas`: real arms of the training pose set and
+  random ones within the joint limits) is put on the leaf's shoulder and drawn as
+  capsules; its cost is the sum of A = D(S) - W (eq. 11's per-pixel term) over its
+  pixels outside the body: negative where it covers silhouette left uncovered,
+  positive where it sticks out (the arm the tracker would report otherwise, from
+  the blended leaves, is scored the same way);
+* plus ``stay`` times the 3-D distance (in window pixels) of its elbow and wrist
+  from the reported arm's: among arms of about the same silhouette (forward or
+  back, hidden in front of the torso) the tree's answer stays.
+
+The best atlas arm replaces the reported one when it is cheaper by more than
+``margin``; it hangs from the reported shoulder. A numba kernel scores all
+candidates of one arm in a few milliseconds at level 2 (160x120).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.joints import JOINT_INDEX
+from bodyplay.body.skeleton import NODE_NAMES, Skeleton
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.silhouette.recombine import LIMB_GROUPS, _columns, _random_config
+from bodyplay.trackers.silhouette.window import WindowGeometry
+
+__all__ = ["ArmFit", "ArmFitter", "arm_atlas"]
+
+_RADII = (0.05, 0.04, 0.035)  # upper arm, forearm, hand (m): the body mesh's medians
+_HAND = 0.17  # the hand capsule runs this far on along the forearm (finger tips, m)
+
+
+def arm_atlas(skeleton: Skeleton, sources: list[NDArray[np.float64]], count: int,
+              rng: np.random.Generator, candidates: int = 6000) -> NDArray[np.float64]:
+    """``count`` left-arm configurations (the columns of :data:`LIMB_GROUPS`' left arm,
+    (count, 12)) spread evenly over the places an arm can put its elbow and wrist.
+
+    Candidates: every left arm of ``sources`` (mirrored sources give right arms
+    moved to the left) and ``candidates`` random configurations within the joint
+    limits; each is placed on the upright rest body and the greedy farthest-point
+    rule picks ``count`` of them by the elbow and wrist positions relative to the
+    shoulder (what a silhouette shows of an arm)."""
+    if count < 1:
+        raise ConfigError("the arm atlas needs at least one arm")
+    cols = _columns(skeleton, LIMB_GROUPS[1])
+    real = np.concatenate([s[:, cols] for s in sources]) if sources else np.zeros((0, len(cols)))
+    rand = np.array([_random_config(skeleton, LIMB_GROUPS[1], rng) for _ in range(candidates)])
+    arms = np.concatenate([real, rand])
+    q = np.tile(skeleton.rest_pose(), (len(arms), 1))
+    q[:, cols] = arms
+    q = skeleton.clamp(q)
+    J = skeleton.joint_positions(q)
+    sh = J[:, JOINT_INDEX["l_shoulder"]]
+    X = np.concatenate([J[:, JOINT_INDEX["l_elbow"]] - sh, J[:, JOINT_INDEX["l_wrist"]] - sh],
+                       axis=1)
+    count = min(count, len(X))
+    chosen = np.empty(count, np.int64)
+    chosen[0] = int(rng.integers(len(X)))
+    d = np.sum((X - X[chosen[0]]) ** 2, axis=1)
+    for k in range(1, count):
+        chosen[k] = int(np.argmax(d))
+        np.minimum(d, np.sum((X - X[chosen[k]]) ** 2, axis=1), out=d)
+    return q[chosen][:, cols]
+
+
+@numba.njit(cache=True)
+def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Per candidate: sum of ``cost`` over pixels within radius of one of its three
+    segments (pts[k, 0..3] the chain shoulder, elbow, wrist, finger tips) and not in
+    ``body``."""
+    h, w = cost.shape
+    for k in range(pts.shape[0]):
+        x0 = w
+        x1 = -1
+        y0 = h
+        y1 = -1
+        ok = True
+        for j in range(4):
+            px = pts[k, j, 0]
+            py = pts[k, j, 1]
+            if not (px == px and py == py):
+                ok = False
+            else:
+                x0 = min(x0, int(np.floor(px - radii[0])))
+                x1 = max(x1, int(np.ceil(px + radii[0])))
+                y0 = min(y0, int(np.floor(py - radii[0])))
+                y1 = max(y1, int(np.ceil(py + radii[0])))
+        if not ok:
+            out[k] = 1e9
+            continue
+        x0 = max(x0, 0)
+        y0 = max(y0, 0)
+        x1 = min(x1, w - 1)
+        y1 = min(y1, h - 1)
+        s = 0.0
+        for y in range(y0, y1 + 1):
+            for x in range(x0, x1 + 1):
+                if body[y, x]:
+                    continue
+                inside = False
+                for j in range(3):
+                    ax = pts[k, j, 0]
+                    ay = pts[k, j, 1]
+                    bx = pts[k, j + 1, 0] - ax
+                    by = pts[k, j + 1, 1] - ay
+                    ll = bx * bx + by * by
+                    t = 0.0
+                    if ll > 1e-12:
+                        t = ((x - ax) * bx + (y - ay) * by) / ll
+                        t = min(1.0, max(0.0, t))
+                    dx = x - ax - t * bx
+                    dy = y - ay - t * by
+                    if dx * dx + dy * dy <= radii[j] * radii[j]:
+                        inside = True
+                        break
+                if inside:
+                    s += cost[y, x]
+        out[k] = s
+
+
+@numba.njit(cache=True)
+def _draw(pts, radii, mask):  # type: ignore[no-untyped-def]  # pragma: no cover
+    h, w = mask.shape
+    for y in range(h):
+        for x in range(w):
+            for j in range(3):
+                ax = pts[j, 0]
+                ay = pts[j, 1]
+                bx = pts[j + 1, 0] - ax
+                by = pts[j + 1, 1] - ay
+                ll = bx * bx + by * by
+                t = 0.0
+                if ll > 1e-12:
+                    t = min(1.0, max(0.0, ((x - ax) * bx + (y - ay) * by) / ll))
+                dx = x - ax - t * bx
+                dy = y - ay - t * by
+                if dx * dx + dy * dy <= radii[j] * radii[j]:
+                    mask[y, x] = 1
+                    break
+
+
+@dataclass(frozen=True, eq=False)
+class ArmFit:
+    """The refined pose (template frame, like the leaf's) and, per arm (left,
+    right), whether the atlas arm replaced the leaf's and the cost gained."""
+
+    pose: NDArray[np.float64]
+    replaced: tuple[bool, bool]
+    gain: tuple[float, float]
+
+
+class ArmFitter:
+    """Refines the arms of one body's poses against the distance maps of one level.
+
+    ``atlas``: left-arm configurations (rows of the left arm's pose columns: the
+    clavicle, shoulder, elbow and wrist rotation vectors); the right arm uses their
+    mirror images.
+    """
+
+    def __init__(self, skeleton: Skeleton, geometry: WindowGeometry,
+                 atlas: NDArray[np.float64], level: int = 1, stay: float = 1.0,
+                 margin: float = 10.0) -> None:
+        self.skeleton = skeleton
+        self.level = level
+        self.stay = stay
+        self.margin = margin
+        self.debug: list[tuple[object, ...]] | None = None  # set to a list to record fits
+        self.view = geometry.template_view(level)
+        self.mpp = geometry.mpp(level)
+        self.radii = np.array(_RADII) / self.mpp
+        self.cols = tuple(np.concatenate([np.arange(3 + 3 * skeleton.node_index(n),
+                                                    6 + 3 * skeleton.node_index(n))
+                                          for n in LIMB_GROUPS[g]]) for g in (1, 2))
+        left = np.tile(skeleton.rest_pose(), (len(atlas), 1))
+        left[:, self.cols[0]] = atlas
+        from bodyplay.trackers.silhouette.poses import mirror_poses
+
+        right = mirror_poses(skeleton, left)
+        self.atlas = (np.asarray(atlas, np.float64), right[:, self.cols[1]].copy())
+        self.chain = tuple(tuple(NODE_NAMES.index(f"{s}_{n}") for n in
+                                 ("shoulder", "elbow", "wrist")) for s in ("l", "r"))
+        self.joints = tuple(tuple(JOINT_INDEX[f"{s}_{n}"] for n in ("shoulder", "elbow", "wrist"))
+                            for s in ("l", "r"))
+        self.hand = _HAND
+
+    def _pixels(self, chain: NDArray[np.float64], shift: tuple[float, float]
+                ) -> NDArray[np.float64]:
+        """Window pixels (N, 4, 2) of arm chains (N, 3, 3): shoulder, elbow, wrist, and
+        the finger tips, ``hand`` metres on along the forearm."""
+        fore = chain[:, 2] - chain[:, 1]
+        tip = chain[:, 2] + self.hand * fore / np.maximum(
+            np.linalg.norm(fore, axis=1, keepdims=True), 1e-9)
+        pts = np.concatenate([chain, tip[:, None]], axis=1)
+        return self.view.project(pts, distort=False) + np.asarray(shift)
+
+    def fit(self, pose: NDArray[np.float64], origin: NDArray[np.float64],
+            template: NDArray[np.uint8], cost: NDArray[np.float32],
+            shift: tuple[float, float], reference: NDArray[np.float64]) -> ArmFit:
+        """Refine both arms of ``pose`` (the leaf's pose vector; its template ``template``
+        at this level, already moved by ``shift``, the fitted position in this
+        level's pixels; ``origin`` what the template frame subtracts from world
+        nodes: the pose's root less its anchor offset) against ``cost``, A of the
+        observation. ``reference``: (17, 3) the joints the tracker would report
+        otherwise, template frame: the body without the arms is the template less
+        those arms, and an atlas arm must beat them by ``margin``, paying ``stay``
+        per pixel its elbow and wrist move from them."""
+        sk = self.skeleton
+        q = np.asarray(pose, np.float64).copy()
+        body = (np.asarray(template) > 0).astype(np.uint8)
+        own_nodes = sk.node_positions(q[None])[0] - origin
+        refs = []
+        for s in (0, 1):
+            ref = np.asarray(reference)[list(self.joints[s])][None]
+            own = own_nodes[list(self.chain[s][:3])][None]
+            refs.append(ref)
+            for chain in (own, ref):  # the body without its arms (capsules 1 px wider)
+                px = self._pixels(chain, shift)
+                if np.isfinite(px).all():
+                    arm = np.zeros_like(body)
+                    _draw(px[0], self.radii + 1.0, arm)
+                    body &= 1 - arm
+        replaced, gains = [False, False], [0.0, 0.0]
+        cost64 = np.ascontiguousarray(cost, np.float64)
+        for s in (0, 1):
+            cand = np.tile(q, (len(self.atlas[s]), 1))
+            cand[:, self.cols[s]] = self.atlas[s]
+            nodes = sk.node_positions(cand)[:, list(self.chain[s][:3])] - origin
+            chains = np.concatenate([refs[s], nodes])
+            px = self._pixels(chains, shift)
+            sums = np.empty(len(chains))
+            _capsule_costs(np.ascontiguousarray(px), self.radii, cost64, body, sums)
+            move = np.linalg.norm(chains[:, 1:] - chains[:1, 1:], axis=2).sum(axis=1) / self.mpp
+            total = sums + self.stay * move
+            k = int(np.argmin(total))
+            gain = float(total[0] - total[k])
+            if self.debug is not None:  # (arm, body mask, tree's arm px, best px, costs, move)
+                self.debug.append((s, body.copy(), px[0].copy(), px[k].copy(), sums[0], sums[k],
+                                   move[k]))
+            if k > 0 and gain > self.margin:
+                q[self.cols[s]] = cand[k - 1, self.cols[s]]
+                replaced[s] = True
+                gains[s] = gain
+        return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
