@@ -63,13 +63,16 @@ def arm_atlas(skeleton: Skeleton, sources: list[NDArray[np.float64]], count: int
     real = np.concatenate([s[:, cols] for s in sources]) if sources else np.zeros((0, len(cols)))
     rand = np.array([_random_config(skeleton, LIMB_GROUPS[1], rng) for _ in range(candidates)])
     arms = np.concatenate([real, rand])
-    q = np.tile(skeleton.rest_pose(), (len(arms), 1))
-    q[:, cols] = arms
-    q = skeleton.clamp(q)
-    J = skeleton.joint_positions(q)
-    sh = J[:, JOINT_INDEX["l_shoulder"]]
-    X = np.concatenate([J[:, JOINT_INDEX["l_elbow"]] - sh, J[:, JOINT_INDEX["l_wrist"]] - sh],
-                       axis=1)
+    X = np.empty((len(arms), 6))
+    q = np.empty((len(arms), skeleton.pose_dim))
+    for a in range(0, len(arms), 2000):  # in chunks: the forward kinematics' 4x4 frames
+        qa = np.tile(skeleton.rest_pose(), (len(arms[a:a + 2000]), 1))
+        qa[:, cols] = arms[a:a + 2000]
+        q[a:a + 2000] = qa = skeleton.clamp(qa)
+        J = skeleton.joint_positions(qa)
+        sh = J[:, JOINT_INDEX["l_shoulder"]]
+        X[a:a + 2000, :3] = J[:, JOINT_INDEX["l_elbow"]] - sh
+        X[a:a + 2000, 3:] = J[:, JOINT_INDEX["l_wrist"]] - sh
     count = min(count, len(X))
     chosen = np.empty(count, np.int64)
     chosen[0] = int(rng.integers(len(X)))

@@ -1,0 +1,114 @@
+"""Specifications of the per-arm refinement of the silhouette tracker (armfit)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bodyplay.errors import ConfigError
+from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
+from bodyplay.trackers.silhouette.distance import distance_maps
+from bodyplay.trackers.silhouette.options import SilhouetteOptions
+from bodyplay.trackers.silhouette.window import WindowGeometry
+
+L_WRIST, R_WRIST = 7, 10
+
+
+def _pose(skeleton, left_z: float, right_z: float):  # type: ignore[no-untyped-def]
+    """The rest pose with the shoulders turned about +z (left: -1.4 down, +1.2 up;
+    right: the opposite signs)."""
+    q = skeleton.rest_pose().copy()
+    q[3 + 3 * skeleton.node_index("l_shoulder") + 2] = left_z
+    q[3 + 3 * skeleton.node_index("r_shoulder") + 2] = right_z
+    q[3 + 3 * skeleton.node_index("l_elbow") + 1] = -0.3
+    q[3 + 3 * skeleton.node_index("r_elbow") + 1] = 0.3
+    return skeleton.clamp(q[None])[0]
+
+
+def _setup(skeleton, tree_pose, seen_pose):  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.templates import render_templates
+
+    geo = WindowGeometry()
+    r = render_templates(skeleton, np.stack([tree_pose, seen_pose]), geo, levels=(1,))
+    masks = r.runs[0].masks()
+    origin = tree_pose[0:3] - r.offset[0]
+    # the seen pose drawn where the tree's pose stands (same anchor)
+    seen_shift = r.offset[0] - r.offset[1]
+    assert np.allclose(seen_shift, 0.0, atol=0.02)  # both stand on the same feet
+    cost = distance_maps(masks[1], beta=5.0).cost
+    reference = skeleton.joint_positions(tree_pose) - origin
+    return geo, masks[0], cost, origin, reference
+
+
+@pytest.fixture(scope="module")
+def atlas(skeleton):  # type: ignore[no-untyped-def]
+    return arm_atlas(skeleton, [], 1000, np.random.default_rng(0))  # the tracker's size
+
+
+def test_arm_atlas_spreads_its_arms_over_where_elbow_and_wrist_can_be(skeleton) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.body.joints import JOINT_INDEX
+
+    rng = np.random.default_rng(1)
+    arms = arm_atlas(skeleton, [], 40, rng, candidates=2000)
+    cols = np.concatenate([np.arange(3 + 3 * skeleton.node_index(n), 6 + 3 * skeleton.node_index(n))
+                           for n in ("l_clavicle", "l_shoulder", "l_elbow", "l_wrist")])
+
+    def places(a):  # type: ignore[no-untyped-def]
+        q = np.tile(skeleton.rest_pose(), (len(a), 1))
+        q[:, cols] = a
+        J = skeleton.joint_positions(q)
+        return np.concatenate([J[:, JOINT_INDEX["l_elbow"]], J[:, JOINT_INDEX["l_wrist"]]], axis=1)
+
+    assert arms.shape == (40, len(cols))
+    q = np.tile(skeleton.rest_pose(), (40, 1))
+    q[:, cols] = arms
+    assert skeleton.within_limits(q).all()
+    probe = places(arm_atlas(skeleton, [], 400, np.random.default_rng(2), candidates=400))
+    spread = places(arms)
+    lucky = places(arm_atlas(skeleton, [], 40, np.random.default_rng(3), candidates=40))
+
+    def worst_gap(p):  # type: ignore[no-untyped-def]
+        return np.linalg.norm(probe[:, None] - p[None], axis=2).min(axis=1).max()
+
+    # farthest-point selection leaves a smaller worst gap than 40 random arms
+    assert worst_gap(spread) < worst_gap(lucky)
+    with pytest.raises(ConfigError):
+        arm_atlas(skeleton, [], 0, rng)
+
+
+def test_arm_fitter_raises_the_arm_the_silhouette_shows_raised(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+    down = _pose(skeleton, -1.4, 1.4)
+    raised = _pose(skeleton, 1.2, 1.4)  # the left arm up, the right arm still down
+    geo, tmpl, cost, origin, ref = _setup(skeleton, down, raised)
+    want = skeleton.joint_positions(raised)
+    before = np.linalg.norm(skeleton.joint_positions(down)[L_WRIST] - want[L_WRIST])
+    fitter = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0)
+    cols = fitter.cols[0]
+    # with the seen arm in the atlas, the silhouette alone (stay 0) finds it up to
+    # what a silhouette cannot tell: depth, and 1.8 cm pixels
+    exact = ArmFitter(skeleton, geo, np.vstack([atlas, raised[cols]]), stay=0.0, margin=100.0)
+    fit = exact.fit(down, origin, tmpl, cost, (0.0, 0.0), ref)
+    assert fit.replaced == (True, False)
+    got = skeleton.joint_positions(fit.pose)
+    assert np.linalg.norm((got[L_WRIST] - want[L_WRIST])[:2]) < 0.1
+    np.testing.assert_allclose(got[R_WRIST], want[R_WRIST])
+    # without it, the nearest atlas arm (about 15 cm apart in the atlas) gets it much nearer
+    fit = fitter.fit(down, origin, tmpl, cost, (0.0, 0.0), ref)
+    assert fit.replaced == (True, False)
+    got = skeleton.joint_positions(fit.pose)
+    assert before > 0.9 and np.linalg.norm(got[L_WRIST] - want[L_WRIST]) < 0.6 * before
+
+
+def test_arm_fitter_keeps_the_arms_the_silhouette_agrees_with(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+    pose = _pose(skeleton, 0.3, -0.2)  # arms out to the sides
+    geo, tmpl, cost, origin, ref = _setup(skeleton, pose, pose)
+    fit = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0).fit(
+        pose, origin, tmpl, cost, (0.0, 0.0), ref)
+    assert fit.replaced == (False, False)
+    np.testing.assert_array_equal(fit.pose, pose)
+
+
+def test_silhouette_options_reject_negative_arm_settings() -> None:
+    for bad in ({"arm_candidates": -1}, {"arm_stay": -1.0}, {"arm_margin": -5.0}):
+        with pytest.raises(ConfigError):
+            SilhouetteOptions(**bad)  # type: ignore[arg-type]
