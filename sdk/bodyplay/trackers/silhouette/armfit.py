@@ -141,8 +141,13 @@ def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]
 @numba.njit(cache=True)
 def _draw(pts, radii, mask):  # type: ignore[no-untyped-def]  # pragma: no cover
     h, w = mask.shape
-    for y in range(h):
-        for x in range(w):
+    r = max(radii[0], radii[1], radii[2])
+    x0 = max(0, int(np.floor(min(pts[0, 0], pts[1, 0], pts[2, 0], pts[3, 0]) - r)))
+    x1 = min(w - 1, int(np.ceil(max(pts[0, 0], pts[1, 0], pts[2, 0], pts[3, 0]) + r)))
+    y0 = max(0, int(np.floor(min(pts[0, 1], pts[1, 1], pts[2, 1], pts[3, 1]) - r)))
+    y1 = min(h - 1, int(np.ceil(max(pts[0, 1], pts[1, 1], pts[2, 1], pts[3, 1]) + r)))
+    for y in range(y0, y1 + 1):
+        for x in range(x0, x1 + 1):
             for j in range(3):
                 ax = pts[j, 0]
                 ay = pts[j, 1]
