@@ -115,6 +115,13 @@ class SilhouetteTracker:
         self._template_R = self.geometry.template_view(2).R
         self.max_distance = options.max_distance or farthest_person(
             self._cam, options.background.working_size, options.min_person_px)
+        self._atlas: NDArray[np.float64] | None = None
+        if options.arm_candidates:  # built here (0.5 s), not on the first tracked frame
+            from bodyplay.trackers.silhouette.poses import mirror_poses
+
+            ref = Skeleton.from_shape("m")
+            self._atlas = arm_atlas(ref, [tree.poses, mirror_poses(ref, tree.poses)],
+                                    options.arm_candidates, np.random.default_rng(0))
         self.reset()
 
     @property
@@ -140,7 +147,6 @@ class SilhouetteTracker:
         self._started: float | None = None
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
         self._fitters: dict[str, ArmFitter] = {}
-        self._atlas: NDArray[np.float64] | None = None
         self._maps_now: tuple[DistanceMaps, ...] = ()
         self._short: dict[str, float] = {}
 
@@ -399,12 +405,7 @@ class SilhouetteTracker:
         arm's joints take the place of the blended ones."""
         fitter = self._fitters.get(body)
         if fitter is None:
-            if self._atlas is None:
-                from bodyplay.trackers.silhouette.poses import mirror_poses
-
-                ref = self._skeletons[body]
-                self._atlas = arm_atlas(ref, [self.tree.poses, mirror_poses(ref, self.tree.poses)],
-                                        self.options.arm_candidates, np.random.default_rng(0))
+            assert self._atlas is not None  # built in __init__ when arm_candidates > 0
             fitter = ArmFitter(self._skeletons[body], self.geometry, self._atlas,
                                stay=self.options.arm_stay, margin=self.options.arm_margin)
             self._fitters[body] = fitter
