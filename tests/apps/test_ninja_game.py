@@ -119,3 +119,21 @@ def test_silhouette_input_films_the_empty_room_before_the_virtual_ninja_steps_in
         assert game.player is not None
         first = game.player.script[0]
         assert first["gesture"] == "transfigure" and first["start"] == 1.0 + empty
+
+
+def test_ninja_training_clip_reads_back_standing_on_the_floor_with_its_arms_overhead(tmp_path):
+    # the hierarchy reads the clip back through load_clip: before the feet were put on
+    # the floor frame by frame (and ankle End Sites read as toes), every standing
+    # frame came back 13 cm in the air and the ninja's templates were too tall
+    from apps.ninja.game.training import ninja_training_clip, silhouette_options
+
+    from bodyplay.body.skeleton import Skeleton
+    from bodyplay.motion.clip import load_clip
+    from bodyplay.motion.retarget import _foot_low
+
+    sk = Skeleton.from_shape("m")
+    clip = load_clip(str(ninja_training_clip(tmp_path)), sk)
+    assert abs(float(np.median(clip.poses[:, 1])) - sk.pelvis_height) < 0.02
+    assert float(np.median(np.abs(_foot_low(sk, clip.poses)))) < 0.02
+    opts = silhouette_options(tmp_path)
+    assert opts.hierarchy.clamp is False  # the hit's 1.9 rad shoulder stays in the tree

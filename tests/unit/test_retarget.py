@@ -221,3 +221,33 @@ def test_motion_clip_rejects_bad_arguments(walk: MotionClip) -> None:
         replace(walk, fps=0.0)
     with pytest.raises(ConfigError, match="fps"):
         walk.resample(-5)
+
+
+def test_load_clip_reads_back_a_written_squatting_clip_with_the_feet_on_the_floor(
+    tmp_path: Path,
+) -> None:
+    # bodyplay's own BVH ends each ankle in an End Site (no toe joint): the foot's
+    # direction comes from it, as a wrist's End Site gives the hand; without it a
+    # retargeted squat dug the toes 10 cm into the floor and lifting the clip out of
+    # the floor left every standing frame 10-14 cm up in the air
+    from bodyplay.motion import write_bvh
+    from bodyplay.motion.retarget import _foot_low
+    from bodyplay.testing import Timeline
+
+    sk = Skeleton()
+    tl = Timeline(sk, blend=0.15).hold("idle", 2.0)
+    for _ in range(2):
+        tl.gesture("squat", start=tl.cursor + 1.0)
+    tl.hold("idle", 2.0)
+    times = np.arange(0.0, tl.duration, 1.0 / 30.0)
+    poses = tl.poses(times)
+    rest = sk.joint_positions(sk.rest_pose())
+    J = sk.joint_positions(poses)
+    ankles = [JOINT_INDEX["l_ankle"], JOINT_INDEX["r_ankle"]]
+    poses[:, 1] += rest[ankles, 1].min() - J[:, ankles, 1].min(axis=1)  # feet on the floor
+    path = write_bvh(tmp_path / "squats.bvh", sk, poses, 30.0)
+    clip = load_clip(str(path), sk)
+    standing = np.abs(poses[:, 1] - sk.pelvis_height) < 1e-3
+    assert standing.sum() > 20
+    assert np.abs(clip.poses[standing, 1] - sk.pelvis_height).max() < 0.02
+    assert np.median(np.abs(_foot_low(sk, clip.poses))) < 0.02

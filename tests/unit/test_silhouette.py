@@ -376,3 +376,28 @@ def test_track_set_overrides_silhouette_options_and_rejects_unknown_names() -> N
         _silhouette_options(["max_distance=far"])
     with pytest.raises(ConfigError):
         _silhouette_options(["sigma=-1"])  # the options' own validation still applies
+
+
+def test_hierarchy_keeps_clip_poses_past_the_joint_limits_only_when_clamp_is_off(tmp_path):
+    # the ninja's hit swings the arm to 1.9 rad from the T-pose, past the shoulder's
+    # 1.7 rad limit: clamped, the hierarchy's hit is 0.2 rad low and its template
+    # scores worse than arms down against the player's silhouette
+    from bodyplay.body.skeleton import Skeleton
+    from bodyplay.motion import write_bvh
+    from bodyplay.testing import Timeline
+    from bodyplay.trackers.silhouette.poses import training_poses
+
+    sk = Skeleton.from_shape("m")
+    tl = Timeline(sk, blend=0.15).hold("idle", 0.5)
+    tl.gesture("hit", start=0.6)
+    tl.hold("idle", 0.5)
+    path = write_bvh(tmp_path / "hit.bvh", sk, tl.poses(np.arange(0.0, tl.duration, 1 / 30)), 30.0)
+    lo, hi = sk.limits
+    past = []
+    for clamp in (True, False):
+        opts = HierarchyOptions(clips=(str(path),), yaw_offsets_deg=(0.0,), random_share=0.0,
+                                clamp=clamp)
+        poses = training_poses(sk, opts).poses
+        past.append(float(np.max(np.maximum(lo - poses, poses - hi))))
+        assert ("clamp" in dict(opts.key_items())) is (not clamp)  # old caches stay valid
+    assert past[0] <= 1e-9 and past[1] > 0.1

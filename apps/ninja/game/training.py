@@ -21,12 +21,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.skeleton import Skeleton
-from bodyplay.testing import GESTURE_MOTIONS, Timeline, key_pose
+from bodyplay.testing import GESTURE_MOTIONS, KEY_POSES, Timeline, key_pose
+from bodyplay.testing.poses import grounded
 
 __all__ = ["ninja_training_clip", "silhouette_options", "TRAINING_VERSION"]
 
-TRAINING_VERSION = 2
+TRAINING_VERSION = 5
 """Bumped whenever the generated clip changes (it is part of the file name)."""
 
 _ORDER = ("transfigure", "crouch", "step_left", "hit", "step_right", "double_hit",
@@ -46,9 +48,26 @@ def _varied_keys(sk: Skeleton, gesture: str, rng: np.random.Generator, x: float,
         moved = np.abs(q[6:] - idle[6:]) > 1e-6  # jitter the joints the motion moves
         rot = rot + moved * rng.normal(0.0, noise, rot.shape)
         q[6:] = rot
+        if KEY_POSES[name].get("grounded"):  # scaled, jittered legs: feet back on the floor
+            q = grounded(sk, q)
         q[0] += x
-        keys.append((float(t), sk.clamp(q)))
+        keys.append((float(t), q))
     return keys
+
+
+def _on_floor(sk: Skeleton, poses: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Every frame moved vertically so that its lower ankle is at the standing ankle
+    height: none of the five motions leaves the floor, but blending key poses sinks
+    the feet into it on the way into a squat (up to 10 cm), and reading the clip
+    back (:func:`bodyplay.motion.load_clip` puts the floor under the lowest feet)
+    would then lift every standing frame 13 cm off the floor, making its templates
+    taller than the player."""
+    rest = sk.joint_positions(sk.rest_pose())
+    ia, ib = JOINT_INDEX["l_ankle"], JOINT_INDEX["r_ankle"]
+    j = sk.joint_positions(poses)
+    out = np.array(poses, np.float64, copy=True)
+    out[:, 1] += min(rest[ia, 1], rest[ib, 1]) - np.minimum(j[:, ia, 1], j[:, ib, 1])
+    return out
 
 
 def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants: int = 6,
@@ -75,7 +94,7 @@ def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants:
             x += 0.5 if g == "step_left" else -0.5 if g == "step_right" else 0.0
     times = np.arange(0.0, tl.duration, 1.0 / fps)
     tmp = path.with_suffix(".tmp.bvh")
-    write_bvh(tmp, sk, tl.poses(times), fps)
+    write_bvh(tmp, sk, _on_floor(sk, tl.poses(times)), fps)
     tmp.replace(path)
     return path
 
@@ -86,4 +105,5 @@ def silhouette_options(folder: Path | None = None) -> Any:
     from bodyplay.trackers.silhouette.options import HierarchyOptions, SilhouetteOptions
 
     clips = tuple(list_builtin_clips()) + (str(ninja_training_clip(folder)),)
-    return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips))
+    return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips, clamp=False),
+                             explore=8, sigma=0.5)

@@ -109,11 +109,12 @@ def _raw_points(
     pts["head_axis"] = _unit(axis)
     if end is not None:
         pts["head_len"] = np.linalg.norm(axis, axis=-1)
-    for side in ("l", "r"):  # fall back to the wrist's End Site for the hand
-        if f"{side}_hand" not in pts:
-            tip = end_point(clip.index(mapping.joints[f"{side}_wrist"]))
-            if tip is not None:
-                pts[f"{side}_hand"] = tip
+    for side in ("l", "r"):  # fall back to the wrist's / ankle's End Site for hand / toe
+        for joint, tip_name in (("wrist", "hand"), ("ankle", "toe")):
+            if f"{side}_{tip_name}" not in pts:
+                tip = end_point(clip.index(mapping.joints[f"{side}_{joint}"]))
+                if tip is not None:
+                    pts[f"{side}_{tip_name}"] = tip
     return pts
 
 

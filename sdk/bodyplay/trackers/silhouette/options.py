@@ -84,7 +84,10 @@ class HierarchyOptions:
     motion follows, with probability ``recombine_swap``, another stretch of any
     clip or its mirror, time-warped, or with probability ``recombine_random``
     moves between random configurations within the joint limits), as a share
-    of the clip frames (0: none).
+    of the clip frames (0: none); ``clamp``: clip poses are
+    projected into the skeleton's joint limits (off: kept as the clips have them,
+    for motions past those limits, such as the ninja's arm swung over the head:
+    the shoulder's limit is 1.7 rad from the T-pose, its hit 1.9).
     """
 
     clips: tuple[str, ...] = ()
@@ -104,6 +107,7 @@ class HierarchyOptions:
     recombine_share: float = 0.0
     recombine_swap: float = 0.5
     recombine_random: float = 0.2
+    clamp: bool = True
 
     def __post_init__(self) -> None:
         if not 0 <= self.recombine_share <= 10:
@@ -123,14 +127,16 @@ class HierarchyOptions:
 
     def key_items(self) -> list[tuple[str, object]]:
         """The options as sorted (name, value) pairs, for the cache key (``mirror`` and
-        the recombination only when on, so the hierarchies cached before they existed
-        stay valid)."""
+        the recombination only when on, ``clamp`` only when off, so the hierarchies
+        cached before they existed stay valid)."""
         items = asdict(self)
         if not self.mirror:
             del items["mirror"]
         if not self.recombine_share:
             for k in ("recombine_share", "recombine_swap", "recombine_random"):
                 del items[k]
+        if self.clamp:
+            del items["clamp"]
         return sorted(items.items())
 
 

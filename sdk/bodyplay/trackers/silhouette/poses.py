@@ -165,12 +165,14 @@ def training_poses(skeleton: Skeleton, options: HierarchyOptions) -> TrainingPos
         clip = load_clip(name, skeleton, fps=options.clip_fps)
         if abs(clip.fps - options.clip_fps) > 1e-6:
             clip = clip.resample(options.clip_fps)
-        clip_poses.append(skeleton.clamp(clip.poses))
+        clip_poses.append(skeleton.clamp(clip.poses) if options.clamp else clip.poses)
         for yaw in options.yaw_offsets_deg:
-            seqs.append(skeleton.clamp(_face_camera(clip.poses, float(np.radians(yaw)))))
+            turned = _face_camera(clip.poses, float(np.radians(yaw)))
+            seqs.append(skeleton.clamp(turned) if options.clamp else turned)
     n_clip_frames = sum(len(s) for s in seqs)
     if options.mirror:
-        seqs += [skeleton.clamp(mirror_poses(skeleton, s)) for s in seqs]
+        seqs += [skeleton.clamp(mirror_poses(skeleton, s)) if options.clamp
+                 else mirror_poses(skeleton, s) for s in seqs]
     rng = np.random.default_rng(options.seed)
     n_yaws = max(1, len(options.yaw_offsets_deg))
     if options.recombine_share > 0:
