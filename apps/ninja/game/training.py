@@ -7,8 +7,10 @@ the gesture tables (the key poses the virtual ninja performs), each performed
 ``variants`` times with a random speed (0.75-1.3), a random amplitude (every key
 pose's rotations scaled by 0.8-1.15 from the idle pose) and random joint noise
 (0.08 rad), so the tree holds motions *like* the game's rather than the exact test
-script, plus a side step either way; written once as a BVH file (its name carries
-the generator's version and seed). :func:`silhouette_options` adds it to the
+script, plus a side step either way; every frame stands on the floor (the
+hierarchy reads the clip back through the retargeter, which puts the floor under
+the lowest feet); written once as a BVH file (its name carries the generator's
+version and seed). :func:`silhouette_options` adds it to the
 vendored CMU clips the silhouette tracker's hierarchy is built from (the
 hierarchy's cache key includes the clip's bytes, so it is built once).
 """
@@ -100,10 +102,17 @@ def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants:
 
 
 def silhouette_options(folder: Path | None = None) -> Any:
-    """Silhouette tracker options whose hierarchy also holds the ninja's motions."""
+    """Silhouette tracker options whose hierarchy also holds the ninja's motions.
+
+    Measured on the tune half of ``benchmarks/ninja_gestures.py`` (docs/ninja.md):
+    the clip poses are not clamped into the joint limits (the hit swings the
+    shoulder to 1.9 rad, past its 1.7 limit); ``explore`` 8 (3 let the filter
+    prune the hit's subtree, whose coarse prototypes ranked 5th); ``sigma`` 0.5
+    (0.25: 13 false hits, 0.5: 7); no per-arm refinement (``arm_candidates`` 0; on,
+    hit recall 1.00 -> 0.75 and double hit 1.00 -> 0.50)."""
     from bodyplay.motion import list_builtin_clips
     from bodyplay.trackers.silhouette.options import HierarchyOptions, SilhouetteOptions
 
     clips = tuple(list_builtin_clips()) + (str(ninja_training_clip(folder)),)
     return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips, clamp=False),
-                             explore=8, sigma=0.5)
+                             explore=8, sigma=0.5, arm_candidates=0)
