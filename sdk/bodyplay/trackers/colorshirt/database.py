@@ -22,7 +22,6 @@ them, and rebuilt when any of it changes.
 from __future__ import annotations
 
 import hashlib
-import math
 import os
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
@@ -482,9 +481,3 @@ def load_or_build_database(
         raise ConfigError(f"cannot write the pose database cache {path}: {exc}; "
                           "pass a writable --cache folder") from None
     return db
-
-
-def database_memory_mb(n: int, options: DatabaseOptions) -> float:
-    """Approximate resident size of a database of ``n`` poses, in MB."""
-    per = options.map_size**2 + 4 * (options.pca_dims + 75 + 4)
-    return n * per / 1e6 + math.ceil(n / 1e6)
