@@ -29,7 +29,9 @@ class ColorShirtOptions:
     * ``database_size`` poses in the database (paper: 80,000), cached in
       ``database_cache`` (default ``~/.cache/bodyplay``).
     * ``threshold`` (T = 3) and ``prior_threshold`` (T = 5) of the classifier,
-      ``prior_strength`` the 6 of ``C = 6 / s``, ``retry_fraction`` the 40% test.
+      ``prior_strength`` the 6 of ``C = 6 / s`` (12 here: with the paper's 6 a
+      pixel of a patch's colour up to 0.8 shirt sizes from it counted, and rooms
+      in shirt colours pulled the patches), ``retry_fraction`` the 40% test.
       ``prior_gain_power``: ``C`` is multiplied by ``g ** prior_gain_power``, ``g``
       the overall gain of the white balance (``det(W) ** (1/3)``, at least 1):
       an image the balance must amplify is noisier, so the pose prior counts more
@@ -155,7 +157,7 @@ class ColorShirtOptions:
     database_cache: str | None = None
     threshold: float = 3.0
     prior_threshold: float = 5.0
-    prior_strength: float = 6.0
+    prior_strength: float = 12.0
     prior_gain_power: float = 2.0
     retry_fraction: float = 0.4
     reference_distance: float = 0.5
