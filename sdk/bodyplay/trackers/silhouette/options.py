@@ -191,6 +191,11 @@ class SilhouetteOptions:
     elbow and wrist move from the tree's arm, ``arm_margin`` how much cheaper (sum
     of eq. 11's per-pixel term) it must be to replace it (on the tune clips: off
     12.9 cm mean of clip medians, 11.1 with these);
+    ``head_depth_weight``: share of the head-top depth cue (:mod:`.headdepth`) blended
+    into the root's distance from the camera (0: the floor point alone),
+    ``head_depth_window`` the seconds its median is taken over, ``head_min_lever``
+    the least height (m) of the template's head top above the camera for the cue
+    to count;
     ``cache``: hierarchy cache folder.
     """
 
@@ -223,9 +228,17 @@ class SilhouetteOptions:
     arm_candidates: int = 1000
     arm_stay: float = 3.0
     arm_margin: float = 100.0
+    head_depth_weight: float = 0.0
+    head_depth_window: float = 0.5
+    head_min_lever: float = 0.3
     cache: str | None = None
 
     def __post_init__(self) -> None:
+        if not 0 <= self.head_depth_weight <= 1 or self.head_depth_window < 0:
+            raise ConfigError("head_depth_weight must be in [0, 1] (0: floor point alone) and "
+                              "head_depth_window >= 0 seconds")
+        if self.head_min_lever <= 0:
+            raise ConfigError("head_min_lever must be > 0 metres")
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:
             raise ConfigError("arm_candidates (0: no per-arm refinement), arm_stay and "
                               "arm_margin must be >= 0")

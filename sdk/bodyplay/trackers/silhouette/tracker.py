@@ -47,6 +47,7 @@ from bodyplay.trackers.base import (
 from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
 from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
+from bodyplay.trackers.silhouette.headdepth import HeadDepth, head_depth_offset
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
@@ -149,6 +150,7 @@ class SilhouetteTracker:
         self._fitters: dict[str, ArmFitter] = {}
         self._maps_now: tuple[DistanceMaps, ...] = ()
         self._short: dict[str, float] = {}
+        self._head = HeadDepth(self.options.head_depth_window)
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -380,6 +382,12 @@ class SilhouetteTracker:
                              ).as_rotvec()
         if self.options.arm_candidates:
             joints, pose = self._refine_arms(body, step, joints, pose, R_align, ground + lift)
+        if self.options.head_depth_weight > 0:  # the head top's depth cue, along the sight line
+            move = self.options.head_depth_weight * self._head.add(
+                frames.t, self._head_offset(bt, step, win))
+            joints = joints + move * win.views[2].R[2]
+            pose = pose.copy()
+            pose[0:3] += move * win.views[2].R[2]
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
             a = self.options.smooth
             joints = a * self._last.joints + (1 - a) * joints
@@ -397,6 +405,18 @@ class SilhouetteTracker:
         conf *= float(np.exp(-step.distance / (4.0 * tree.options.thresholds[2])))
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
+
+    def _head_offset(self, bt: object, step: FilterStep, win: ObservedWindow) -> float | None:
+        """The head-top depth cue of this frame (:func:`.headdepth.head_depth_offset`)."""
+        top = _head_top(win.foreground[2])
+        mask = bt.runs[2].masks(np.array([step.leaf]))[0]  # type: ignore[attr-defined]
+        tt = _head_top(mask)
+        if top is None or tt is None:
+            return None
+        g = self.geometry
+        return head_depth_offset(top, tt + step.shift[1], g.floor_row(2), g.mpp(2),
+                                 win.distance, float(self._cam.center[1]),
+                                 self.options.head_min_lever)
 
     def _refine_arms(self, body: str, step: FilterStep, joints: NDArray[np.float64],
                      pose: NDArray[np.float64], R_align: NDArray[np.float64],
