@@ -6,7 +6,7 @@ import pytest
 
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.silhouette import SilhouetteOptions
-from bodyplay.trackers.silhouette.headdepth import HeadDepth, head_depth_offset
+from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
 
 CAM_H, MPP, D, FLOOR = 1.2, 0.009, 3.0, 220.0
 
@@ -35,7 +35,7 @@ def test_head_depth_offset_skips_a_head_near_the_camera_height() -> None:
 
 
 def test_head_depth_median_forgets_cues_older_than_its_window() -> None:
-    h = HeadDepth(window=0.5)
+    h = RunningMedian(window=0.5)
     assert h.add(0.0, None) == 0.0
     h.add(0.0, 1.0)
     h.add(0.1, 0.2)

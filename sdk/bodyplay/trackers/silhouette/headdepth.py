@@ -24,7 +24,7 @@ from collections import deque
 
 import numpy as np
 
-__all__ = ["head_depth_offset", "HeadDepth"]
+__all__ = ["head_depth_offset", "RunningMedian"]
 
 
 def head_depth_offset(observed_top: float, template_top: float, floor_row: float, mpp: float,
@@ -42,8 +42,9 @@ def head_depth_offset(observed_top: float, template_top: float, floor_row: float
     return float((observed_top - template_top) * mpp * distance / lever)
 
 
-class HeadDepth:
-    """The head cue's running median over the last ``window`` seconds."""
+class RunningMedian:
+    """A depth cue's running median over the last ``window`` seconds (the head top's
+    and the stance's)."""
 
     def __init__(self, window: float) -> None:
         self.window = window

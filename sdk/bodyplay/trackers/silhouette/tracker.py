@@ -47,9 +47,10 @@ from bodyplay.trackers.base import (
 from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
 from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
-from bodyplay.trackers.silhouette.headdepth import HeadDepth, head_depth_offset
+from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
+from bodyplay.trackers.silhouette.stance import stance_offset
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
@@ -150,7 +151,8 @@ class SilhouetteTracker:
         self._fitters: dict[str, ArmFitter] = {}
         self._maps_now: tuple[DistanceMaps, ...] = ()
         self._short: dict[str, float] = {}
-        self._head = HeadDepth(self.options.head_depth_window)
+        self._head = RunningMedian(self.options.head_depth_window)
+        self._stance = RunningMedian(self.options.stance_window)
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -388,6 +390,17 @@ class SilhouetteTracker:
             joints = joints + move * win.views[2].R[2]
             pose = pose.copy()
             pose[0:3] += move * win.views[2].R[2]
+        if self.options.stance_weight > 0:  # the feet's depth spread, along the sight line
+            g = self.geometry
+            tmpl = _moved(bt.runs[2].masks(np.array([step.leaf]))[0], step.shift)
+            off = stance_offset(win.foreground[2], tmpl, g.floor_row(2), g.mpp(2),
+                                win.distance, float(self._cam.center[1]),
+                                max(1, int(round(self.options.foot_band / g.mpp(2)))))
+            move = self.options.stance_weight * self._stance.add(frames.t, off)
+            if move != 0.0:
+                joints = joints + move * win.views[2].R[2]
+                pose = pose.copy()
+                pose[0:3] += move * win.views[2].R[2]
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
             a = self.options.smooth
             joints = a * self._last.joints + (1 - a) * joints
