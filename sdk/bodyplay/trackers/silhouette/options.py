@@ -198,7 +198,8 @@ class SilhouetteOptions:
     to count; ``stance_weight``: share of the stance cue (:mod:`.stance`: the two
     feet's floor rows, observed against the template's, in the lowest ``foot_band``
     m) applied to the root's distance (0: the template's own stance; 1, the geometric
-    value: tune captures 11.7 / 31.0 -> 11.0 / 24.2 cm median / worst of clip medians),
+    value: the nine tune captures 11.6 / 18.9 -> 10.5 / 18.7 cm median / worst of
+    clip medians, docs/silhouette.md),
     ``stance_window`` the seconds its median is taken over;
     ``cache``: hierarchy cache folder.
     """
