@@ -55,3 +55,5 @@ def test_silhouette_options_reject_a_stance_weight_outside_zero_to_one() -> None
         SilhouetteOptions(stance_weight=-0.1)
     with pytest.raises(ConfigError):
         SilhouetteOptions(stance_window=-1.0)
+    with pytest.raises(ConfigError):
+        SilhouetteOptions(stance_deadband=-0.01)

@@ -198,9 +198,11 @@ class SilhouetteOptions:
     to count; ``stance_weight``: share of the stance cue (:mod:`.stance`: the two
     feet's floor rows, observed against the template's, in the lowest ``foot_band``
     m) applied to the root's distance (0: the template's own stance; 1, the geometric
-    value: the nine tune captures 11.6 / 18.9 -> 10.5 / 18.7 cm median / worst of
-    clip medians, docs/silhouette.md),
-    ``stance_window`` the seconds its median is taken over;
+    value), ``stance_window`` the seconds its median is taken over,
+    ``stance_deadband`` the metres taken off each frame's offset (a couple of
+    pixels of segmentation at the feet read as a stance; the nine tune captures
+    11.6 / 18.9 / 11.1 cm median / worst / mean of clip medians, 10.5 / 18.7 / 10.4
+    with the cue and no dead band, 10.7 / 18.4 / 10.2 with 0.04 m; docs/silhouette.md);
     ``cache``: hierarchy cache folder.
     """
 
@@ -238,6 +240,7 @@ class SilhouetteOptions:
     head_min_lever: float = 0.3
     stance_weight: float = 1.0
     stance_window: float = 0.5
+    stance_deadband: float = 0.04
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -246,8 +249,8 @@ class SilhouetteOptions:
                               "head_depth_window >= 0 seconds")
         if not 0 <= self.stance_weight <= 1:
             raise ConfigError("stance_weight must be in [0, 1] (0: the template's own stance)")
-        if self.stance_window < 0:
-            raise ConfigError("stance_window must be >= 0 seconds")
+        if self.stance_window < 0 or self.stance_deadband < 0:
+            raise ConfigError("stance_window must be >= 0 seconds and stance_deadband >= 0 m")
         if self.head_min_lever <= 0:
             raise ConfigError("head_min_lever must be > 0 metres")
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:

@@ -396,6 +396,8 @@ class SilhouetteTracker:
             off = stance_offset(win.foreground[2], tmpl, g.floor_row(2), g.mpp(2),
                                 win.distance, float(self._cam.center[1]),
                                 max(1, int(round(self.options.foot_band / g.mpp(2)))))
+            if off is not None:  # offsets within the dead band are segmentation noise
+                off = float(np.sign(off)) * max(abs(off) - self.options.stance_deadband, 0.0)
             move = self.options.stance_weight * self._stance.add(frames.t, off)
             if move != 0.0:
                 joints = joints + move * win.views[2].R[2]
