@@ -38,7 +38,7 @@ import colorshirt_validation as cv
 from _machine import machine
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.sources import open_source
-from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
+from bodyplay.trackers.colorshirt import ColorShirtOptions, camerawork, create_colorshirt_tracker
 from bodyplay.trackers.colorshirt import tracker as tracker_module
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.ik import KinematicSolver
@@ -49,20 +49,20 @@ from bodyplay.trackers.colorshirt.prediction import PoseRenderer
 STAGES: tuple[tuple[str, object, str], ...] = (
     ("background (MOG2, plate)", BackgroundMask, "apply"),
     ("locate (histogram search)", ShirtLocator, "locate"),
-    ("classify (white balance, Mahalanobis)", tracker_module, "classify_camera"),
-    ("query (40x40 map, database lookup)", tracker_module, "make_query"),
+    ("classify (white balance, Mahalanobis)", camerawork, "classify_camera"),
+    ("query (40x40 map, database lookup)", camerawork, "make_query"),
     ("placement (blend, place)", DatabasePlacement, "place"),
     ("render (id maps of the fit)", PoseRenderer, "render"),
     ("skinning (mesh vertices)", PoseRenderer, "vertices"),
     ("6-DOF fit", KinematicSolver, "solve_global"),
     ("arm search", ArmSearches, "search"),
-    ("reclassification (pose prior)", tracker_module.ColorShirtTracker, "_refine_classification"),
+    ("reclassification (pose prior)", camerawork.CameraWork, "refine_classification"),
     ("anchors", tracker_module.ColorShirtTracker, "_anchors"),
     ("IK", KinematicSolver, "solve_ik"),
-    ("white-balance refit", tracker_module.ColorShirtTracker, "_refit_white_balance"),
+    ("white-balance refit", camerawork.CameraWork, "refit_white_balance"),
     ("head cue", tracker_module, "head_anchors"),
     ("floor cue (feet)", tracker_module, "floor_reading"),
-    ("gate (shirt box of the pose)", tracker_module.ColorShirtTracker, "_remember_shirt"),
+    ("gate (shirt box of the pose)", camerawork.CameraWork, "remember_shirt"),
 )
 """(stage, owner, attribute): the functions whose exclusive CPU time makes each stage."""
 

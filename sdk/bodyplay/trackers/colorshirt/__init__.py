@@ -5,7 +5,8 @@ Build one with :func:`create_colorshirt_tracker`; it implements
 classifier), :mod:`.whitebalance`, :mod:`.locate` (histogram search),
 :mod:`.database` (rendered pose database), :mod:`.prediction` (rendering the
 estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.views` (per-camera
-state, crop classification clean-up and query), :mod:`.tracker` (the pipeline).
+state, crop classification clean-up and query), :mod:`.camerawork` (the steps in
+each camera's image), :mod:`.tracker` (the pipeline).
 """
 
 from __future__ import annotations

@@ -1,0 +1,331 @@
+"""The color-shirt tracker's work in each camera's image (:class:`CameraWork`).
+
+Everything the tracker does with one camera's pixels: undistort, background
+mask (MOG2) and plates, histogram search near the shirt's last box, crop, white
+balance and classification inside the gate, database query (:meth:`CameraWork.view`);
+with the pose's render, the step-2 correspondences and the step-3 pose-assisted
+reclassification, and the step-5 refit of ``W``; after a pose is reported, each
+camera's gate and search box and its room plate. The 3-D side (blend, fits, body
+choice) is :mod:`.tracker`'s.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from bodyplay.body.shirt import NUM_COLORS
+from bodyplay.capture.camera import Camera
+from bodyplay.trackers.colorshirt.anchors import Observed
+from bodyplay.trackers.colorshirt.colors import ColorModel
+from bodyplay.trackers.colorshirt.database import PoseDatabase
+from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
+from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
+from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+from bodyplay.trackers.colorshirt.prediction import (
+    CropWindow,
+    PoseRenderer,
+    RenderedPose,
+    patch_stats,
+)
+from bodyplay.trackers.colorshirt.views import (
+    WHITE_ID,
+    CameraState,
+    CameraView,
+    classify_camera,
+    clean_ids,
+    make_query,
+    prior_penalty_slope,
+)
+from bodyplay.trackers.colorshirt.whitebalance import (
+    ReferenceIlluminations,
+    white_balance_from_ids,
+)
+
+__all__ = ["CameraWork"]
+
+_REDUCE = 2
+"""Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
+
+_STILL_FRACTION = 0.01
+"""Below this share of changed pixels (MOG2) the tracked shirt's box counts as still."""
+
+_SEARCH_REACH = 1.0
+"""How far around the shirt's last box (in box sizes) the histogram search looks first."""
+
+
+class CameraWork:
+    """The per-camera image steps of the color-shirt tracker (see the module docstring).
+
+    Holds what they need that never changes while tracking (options, cameras and
+    their undistortion maps, the shirt locator, the color models, the pose
+    database); what each camera remembers between frames is its
+    :class:`CameraState`, passed in, and the body's renderer is passed in too (the
+    start-up's body choice changes it).
+    """
+
+    def __init__(self, options: ColorShirtOptions, cameras: tuple[Camera, ...],
+                 database: PoseDatabase, color_model: ColorModel) -> None:
+        self.options = options
+        self.cameras = cameras
+        self.database = database
+        self.color_model = color_model
+        """Chooses ``W`` (:func:`white_balance_from_ids`)."""
+        self.noise_model = (
+            dataclasses.replace(color_model, measurement_noise=options.measurement_noise)
+            if options.measurement_noise > 0 else color_model)
+        """The classifier: ``color_model`` with the W-amplified measurement noise
+        (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
+        self.locator = ShirtLocator(options.locate)
+        self._undistort = [c.undistort_maps() for c in cameras]
+
+    def new_states(self) -> list[CameraState]:
+        """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
+        init = self.options.initial_white_balance
+        states = [
+            CameraState(BackgroundMask(downscale=_REDUCE),
+                        references=ReferenceIlluminations(self.options.reference_distance),
+                        floor=FloorWatch(BackgroundPlate(downscale=_REDUCE)))
+            for _ in self.cameras
+        ]
+        if init is not None:
+            for st in states:
+                st.W = np.asarray(init, dtype=np.float64)
+                st.references.add(st.W)
+        return states
+
+    # ---- one camera's share of a frame: locate, classify, query ----------------------
+    def view(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
+             confirmed: bool) -> CameraView | None:
+        """Camera ``i``'s view of the frame at ``t`` (None: no shirt there).
+
+        ``confirmed``: whether the tracker holds a pose reported (until one is,
+        the floor cue's plate takes the shirt-like region for possible clutter).
+        """
+        o = self.options
+        maps = self._undistort[i]
+        if maps is not None:
+            image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
+        reduced = None
+        plate = o.floor_cue or o.head_cue
+        if o.background_subtraction or plate or o.room_plate:
+            reduced = st.background.reduce(image)  # MOG2 and the plates share it
+        if reduced is not None and o.room_plate:
+            st.room.start(reduced)
+        mask = st.background.apply(image, reduced) if o.background_subtraction else None
+        if st.last_box is not None and o.background_subtraction:
+            moved = st.background.moving(st.last_box)
+            if moved is not None:
+                st.still = st.still + 1 if moved < _STILL_FRACTION else 0
+        if reduced is not None and plate:
+            st.floor.start(reduced, reduced=True)
+        if mask is not None and st.last_box is not None:
+            # a person standing still fades into the background model: the region
+            # where the shirt was a frame ago always counts as foreground
+            bx0, by0, bx1, by1 = st.last_box
+            mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
+        room = st.room.foreground() if o.room_plate else None
+        if room is not None:  # pixels the room plate knows as room are not the player
+            full = cv2.resize(room.astype(np.uint8), (image.shape[1], image.shape[0]),
+                              interpolation=cv2.INTER_NEAREST) > 0
+            mask = full if mask is None else mask & full
+        region = None
+        if st.last_box is not None:  # search near the shirt's last position first
+            bx0, by0, bx1, by1 = st.last_box
+            reach = _SEARCH_REACH * max(bx1 - bx0, by1 - by0)
+            region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
+        loc = self.locator.locate(image, mask, region)
+        st.located = loc.found
+        if not loc.found:
+            if plate:
+                st.floor.no_shirt()
+            return None
+        gate = self._gate_box(st, t)
+        if gate is not None and not (gate[0] <= loc.x <= gate[2] and gate[1] <= loc.y <= gate[3]):
+            return None  # not where the shirt can be: leave W and the plate alone
+        h, w = image.shape[:2]
+        x0, y0, x1, y1 = loc.box(o.crop_margin)
+        if st.last_box is not None:  # the shirt is near where it was a frame ago
+            bx0, by0, bx1, by1 = st.last_box
+            x0, y0, x1, y1 = min(x0, bx0), min(y0, by0), max(x1, bx1), max(y1, by1)
+        x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, w), min(y1, h)
+        if x1 - x0 < 8 or y1 - y0 < 8:
+            return None
+        scale = min(1.0, o.work_size / max(x1 - x0, y1 - y0))
+        cw, chh = max(1, round((x1 - x0) * scale)), max(1, round((y1 - y0) * scale))
+        crop = np.asarray(cv2.resize(image[y0:y1, x0:x1], (cw, chh),
+                                     interpolation=cv2.INTER_AREA), np.uint8)
+        cmask = None
+        if mask is not None:
+            cmask = cv2.resize(mask[y0:y1, x0:x1].astype(np.uint8), (cw, chh),
+                               interpolation=cv2.INTER_NEAREST) > 0
+        if plate and o.plate_mask:  # MOG2 has the player's last box as foreground
+            pm = st.floor.crop_foreground((x0, y0, x1, y1), (cw, chh))
+            if pm is not None:
+                alone = len(self.cameras) <= o.plate_mask_alone_cameras
+                cmask = pm if cmask is None or alone else cmask & pm
+        window = CropWindow(float(x0), float(y0), float(cw) / (x1 - x0), cw, chh)
+        gated = self._gate_mask(st, window, t)
+        if gated is not None:
+            cmask = gated if cmask is None else cmask & gated
+        # the paper's "supposedly foreground": masked pixels inside the located window
+        fg = np.zeros((chh, cw), bool)
+        half = 0.5 * loc.scale * window.scale
+        cx, cy = (loc.x - x0) * window.scale, (loc.y - y0) * window.scale
+        fg[max(0, int(cy - half)) : int(cy + half), max(0, int(cx - half)) : int(cx + half)] = True
+        if cmask is not None:
+            fg &= cmask
+        W, ids = classify_camera(st, crop, cmask, fg, self.color_model, self.noise_model, o)
+        ids = clean_ids(ids, o.blob_fraction, o.blob_attach)
+        counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
+        min_px = max(4, int(o.min_color_fraction * ids.size))
+        if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
+            return None
+        ys, xs = np.nonzero(ids)
+        lo = np.array([xs.min(), ys.min()], float)
+        hi = np.array([xs.max(), ys.max()], float) + 1.0
+        extent = float(np.max(hi - lo))
+        view = CameraView(i, window, crop, cmask, W, ids, extent)
+        ys, xs = np.nonzero((ids > 0) & (ids != WHITE_ID))
+        blo = window.to_image(np.array([xs.min(), ys.min()], float))
+        bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
+        if plate:
+            st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])),
+                              confirmed=confirmed)
+        make_query(view, self.database, lo, hi)
+        return view
+
+    def _gate_box(self, st: CameraState, t: float) -> tuple[float, float, float, float] | None:
+        """Image box where the shirt can be at ``t`` (see :meth:`_gate_mask`)."""
+        if st.gate is None:
+            return None
+        gx0, gy0, gx1, gy1 = st.gate
+        m = self.options.gate_speed * max(t - st.gate_t, 1 / 30) * max(gx1 - gx0, gy1 - gy0)
+        return (gx0 - m, gy0 - m, gx1 + m, gy1 + m)
+
+    def _gate_mask(self, st: CameraState, window: CropWindow,
+                   t: float) -> NDArray[np.bool_] | None:
+        """Crop mask of where the shirt can be at ``t``: the shirt's box in the last
+        pose reported, grown by ``gate_speed`` times its size per second since (at
+        least a 30th of a second; None: no pose reported within ``gate_time``).
+
+        Colors outside it cannot pull the pose: without it, blobs of a poster or of
+        clothes in shirt colors next to the player were kept, grew the crop, and
+        the crop took in more of them frame after frame.
+        """
+        box = self._gate_box(st, t)
+        if box is None:
+            return None
+        a = window.to_crop(np.array(box[:2], float))
+        b = window.to_crop(np.array(box[2:], float))
+        out = np.zeros((window.height, window.width), bool)
+        out[max(0, int(a[1])): max(0, int(np.ceil(b[1]))),
+            max(0, int(a[0])): max(0, int(np.ceil(b[0])))] = True
+        return out
+
+    # ---- with the pose's render: correspondences, reclassification, W refit ----------
+    def observed_by_color(self, renderer: PoseRenderer, view: CameraView,
+                          rend: RenderedPose) -> Observed:
+        """Step-2 correspondences: each color's pixels go to its larger rendered patch."""
+        lut = np.zeros(NUM_COLORS + 1, np.uint8)
+        for k, pats in enumerate(renderer.color_patches):
+            lut[k + 1] = max(pats, key=lambda p: rend.stats.count[p])
+        view.patch_ids = lut[view.ids]
+        st, _ = patch_stats(view.patch_ids)
+        return st.count, st.centroid
+
+    def refine_classification(self, renderer: PoseRenderer, view: CameraView,
+                              rend: RenderedPose) -> Observed:
+        """Step 3: reclassify with the pose prior, then split colors into patches."""
+        o = self.options
+        C = prior_penalty_slope(o.prior_strength, view.shirt_scale, view.W, o.prior_gain_power)
+        min_px = max(3, int(o.min_patch_fraction * view.ids.size))
+        pen, owner = renderer.prior_penalty(rend, C, min_px)
+        cls = self.noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
+        ids = clean_ids(cls.ids, o.blob_fraction, o.blob_attach)
+        view.ids = ids
+        k = ids.astype(np.int64) - 1
+        yy, xx = np.nonzero(ids)
+        patch_ids = np.zeros_like(ids)
+        patch_ids[yy, xx] = owner[yy, xx, k[yy, xx]]
+        view.patch_ids = patch_ids
+        st, _ = patch_stats(patch_ids)
+        return st.count, st.centroid
+
+    def refit_white_balance(self, st: CameraState, view: CameraView,
+                            rend: RenderedPose) -> None:
+        """Step 5: ``W*`` from the final pose's id map; store it in ``st`` if it is new.
+
+        Pixels count when the final pose renders them (away from patch edges) and the
+        refined classification agrees on their color, so a slightly misplaced render
+        cannot drag a color's mean towards its neighbour's. ``W*`` is damped towards
+        the current ``W`` (``wb_smoothing``) against frame-to-frame jitter.
+        """
+        colors = rend.color_ids()
+        inner = cv2.erode((colors > 0).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+        keep = inner & (view.ids == colors)
+        if view.mask is not None:
+            keep &= view.mask
+        ids = np.where(keep, colors, 0).astype(np.uint8)
+        W = white_balance_from_ids(view.crop, ids, self.color_model, prior=view.W,
+                                   min_colors=4, ridge_fraction=0.05)
+        if W is None:
+            return
+        a = self.options.wb_smoothing
+        st.W = a * view.W + (1.0 - a) * W
+        st.references.add(st.W)
+
+    # ---- after the frame: what each camera keeps ---------------------------------------
+    def remember_shirt(self, states: list[CameraState], renderer: PoseRenderer,
+                       q: NDArray[np.float64], t: float) -> None:
+        """After a pose is reported: every camera's gate and search box become the
+        box of the pose's shirt projected there (not the classified pixels' box,
+        which clutter in shirt colors next to the player can grow)."""
+        mesh = renderer.mesh
+        verts = renderer.vertices(q)[np.unique(mesh.faces[mesh.face_part > 0])]
+        for cam, st in zip(self.cameras, states, strict=True):
+            uv = cam.project(verts.astype(np.float64), distort=False)
+            uv = uv[np.isfinite(uv).all(axis=1)]  # none behind the camera
+            if not len(uv):
+                st.gate = None
+                continue
+            lo, hi = uv.min(axis=0), uv.max(axis=0)
+            x0, y0 = max(int(lo[0]), 0), max(int(lo[1]), 0)
+            x1, y1 = min(int(np.ceil(hi[0])), cam.width), min(int(np.ceil(hi[1])), cam.height)
+            if x1 - x0 < 4 or y1 - y0 < 4:
+                st.gate = None
+                continue
+            st.gate, st.gate_t = (x0, y0, x1, y1), t
+            pad = 0.15 * max(x1 - x0, y1 - y0)
+            st.last_box = (int(x0 - pad), int(y0 - pad), int(x1 + pad), int(y1 + pad))
+
+    def learn_room(self, states: list[CameraState], renderer: PoseRenderer,
+                   q: NDArray[np.float64] | None, ever_reported: bool) -> None:
+        """Every camera's room plate learns what lies outside the silhouette of the
+        pose ``q`` just reported (dilated); without a pose nothing, except before the
+        first pose (``ever_reported`` False) in a camera that found no shirt (the
+        empty room)."""
+        if not self.options.room_plate:
+            return
+        verts = None if q is None else renderer.vertices(q)
+        for cam, st in zip(self.cameras, states, strict=True):
+            if verts is None:
+                st.room.learn(None, everywhere=not ever_reported and not st.located)
+                continue
+            h, w = cam.height // _REDUCE, cam.width // _REDUCE
+            s = 0.5 / _REDUCE  # rendered at half the plate's resolution, then grown
+            win = CropWindow(0.0, 0.0, s, max(1, round(cam.width * s)),
+                             max(1, round(cam.height * s)))
+            sil = np.isfinite(renderer.render(verts, cam, win).depth).astype(np.uint8)
+            ys, xs = np.nonzero(sil)
+            if not len(ys):
+                st.room.learn(None)
+                continue
+            r = max(2, int(round(self.options.room_margin * max(np.ptp(ys), np.ptp(xs)))))
+            grown = cv2.dilate(sil, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
+                                                              (2 * r + 1, 2 * r + 1)))
+            person = cv2.resize(grown, (w, h), interpolation=cv2.INTER_NEAREST) > 0
+            st.room.learn(person)
