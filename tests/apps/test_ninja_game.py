@@ -137,3 +137,19 @@ def test_ninja_training_clip_reads_back_standing_on_the_floor_with_its_arms_over
     assert float(np.median(np.abs(_foot_low(sk, clip.poses)))) < 0.02
     opts = silhouette_options(tmp_path)
     assert opts.hierarchy.clamp is False  # the hit's 1.9 rad shoulder stays in the tree
+
+
+def test_ninja_training_clip_holds_everyday_arm_motions_like_a_raised_left_hand(tmp_path):
+    # none of the five motions raises one left hand alone: the frames that do come from
+    # the everyday arm motions (raised hands, waves, punches) added so that the tree has
+    # leaves for them instead of dropping the raised arm (a false hit)
+    from apps.ninja.game.training import ninja_training_clip
+
+    from bodyplay.body.joints import JOINT_INDEX
+    from bodyplay.motion.clip import load_clip
+
+    j = load_clip(str(ninja_training_clip(tmp_path))).joints()
+    head, lw, rw = (j[:, JOINT_INDEX[n], 1] for n in ("head", "l_wrist", "r_wrist"))
+    rs = j[:, JOINT_INDEX["r_shoulder"], 1]
+    left_alone = (lw > head) & (rw < rs)
+    assert left_alone.sum() > 6 * 10  # six performances of a raised left hand, at least

@@ -7,7 +7,12 @@ the gesture tables (the key poses the virtual ninja performs), each performed
 ``variants`` times with a random speed (0.75-1.3), a random amplitude (every key
 pose's rotations scaled by 0.8-1.15 from the idle pose) and random joint noise
 (0.08 rad), so the tree holds motions *like* the game's rather than the exact test
-script, plus a side step either way; every frame stands on the floor (the
+script, plus a side step either way. After each round of the five it adds
+everyday arm motions of the kinds a player makes between them (a hand raised,
+either hand waving or punching, both hands raised), varied the same way but drawn
+from a random stream of their own, so the tree has leaves for a raised or waving
+arm (without them the tracker dropped such an arm to the side for a few frames:
+"up, then down quickly", a false hit). Every frame stands on the floor (the
 hierarchy reads the clip back through the retargeter, which puts the floor under
 the lowest feet); written once as a BVH file (its name carries the generator's
 version and seed). :func:`silhouette_options` adds it to the
@@ -30,11 +35,15 @@ from bodyplay.testing.poses import grounded
 
 __all__ = ["ninja_training_clip", "silhouette_options", "TRAINING_VERSION"]
 
-TRAINING_VERSION = 5
+TRAINING_VERSION = 6
 """Bumped whenever the generated clip changes (it is part of the file name)."""
 
 _ORDER = ("transfigure", "crouch", "step_left", "hit", "step_right", "double_hit",
           "step_right", "crouch", "step_left", "hit", "double_hit")
+_EVERYDAY = ("raise_right_hand", "raise_left_hand", "wave_right", "wave_left", "punch_right",
+             "punch_left", "raise_both_hands")
+"""Everyday arm motions (the kinds a player makes between the five) performed after
+each round of the five, so the tree has leaves for a raised or waving arm."""
 
 
 def _varied_keys(sk: Skeleton, gesture: str, rng: np.random.Generator, x: float,
@@ -74,7 +83,8 @@ def _on_floor(sk: Skeleton, poses: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants: int = 6,
                         seed: int = 0) -> Path:
-    """Write (once) and return the BVH of the five motions' varied performances."""
+    """Write (once) and return the BVH of the five motions' varied performances, with
+    varied everyday arm motions after each round."""
     from bodyplay.motion.bvh import write_bvh
 
     folder = folder or Path.home() / ".cache" / "bodyplay"
@@ -83,6 +93,8 @@ def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants:
         return path
     folder.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
+    # the everyday motions draw from their own stream (not the test scripts' seeds)
+    everyday_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(7,)))
     sk = Skeleton()
     tl = Timeline(sk, blend=0.15).hold("idle", 0.5)
     x = 0.0
@@ -94,6 +106,13 @@ def ninja_training_clip(folder: Path | None = None, fps: float = 30.0, variants:
                     _varied_keys(sk, g, rng, x, amp if "step" not in g else 1.0, 0.08)]
             tl.keys(keys, start=tl.cursor + float(rng.uniform(0.2, 0.5)), label=g)
             x += 0.5 if g == "step_left" else -0.5 if g == "step_right" else 0.0
+        for e in everyday_rng.permutation(list(_EVERYDAY)):
+            speed = float(everyday_rng.uniform(0.75, 1.3))
+            amp = float(everyday_rng.uniform(0.8, 1.15))
+            keys = [(t / speed, q) for t, q in
+                    _varied_keys(sk, str(e), everyday_rng, x, amp, 0.08)]
+            tl.keys(keys, start=tl.cursor + float(everyday_rng.uniform(0.2, 0.5)),
+                    label=str(e))
     times = np.arange(0.0, tl.duration, 1.0 / fps)
     tmp = path.with_suffix(".tmp.bvh")
     write_bvh(tmp, sk, _on_floor(sk, tl.poses(times)), fps)
