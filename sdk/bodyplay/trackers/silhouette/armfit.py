@@ -38,7 +38,11 @@ from numpy.typing import NDArray
 from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.errors import ConfigError
-from bodyplay.trackers.silhouette.recombine import LIMB_GROUPS, _columns, _random_config
+from bodyplay.trackers.silhouette.recombine import (
+    LIMB_GROUPS,
+    limb_columns,
+    random_limb_config,
+)
 from bodyplay.trackers.silhouette.window import WindowGeometry
 
 __all__ = ["ArmFit", "ArmFitter", "arm_atlas"]
@@ -59,9 +63,9 @@ def arm_atlas(skeleton: Skeleton, sources: list[NDArray[np.float64]], count: int
     shoulder (what a silhouette shows of an arm)."""
     if count < 1:
         raise ConfigError("the arm atlas needs at least one arm")
-    cols = _columns(skeleton, LIMB_GROUPS[1])
+    cols = limb_columns(skeleton, LIMB_GROUPS[1])
     real = np.concatenate([s[:, cols] for s in sources]) if sources else np.zeros((0, len(cols)))
-    rand = np.array([_random_config(skeleton, LIMB_GROUPS[1], rng) for _ in range(candidates)])
+    rand = np.array([random_limb_config(skeleton, LIMB_GROUPS[1], rng) for _ in range(candidates)])
     arms = np.concatenate([real, rand])
     X = np.empty((len(arms), 6))
     q = np.empty((len(arms), skeleton.pose_dim))

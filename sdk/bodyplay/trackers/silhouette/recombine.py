@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
 
-__all__ = ["LIMB_GROUPS", "recombined_sequences"]
+__all__ = ["LIMB_GROUPS", "limb_columns", "random_limb_config", "recombined_sequences"]
 
 LIMB_GROUPS: tuple[tuple[str, ...], ...] = (
     ("lumbar", "thorax", "neck", "head"),
@@ -55,13 +55,16 @@ _RANGE = {"lumbar": 0.5, "thorax": 0.5, "neck": 0.4, "head": 0.4,
           "l_ankle": 0.5, "r_ankle": 0.5}
 
 
-def _columns(skeleton: Skeleton, names: tuple[str, ...]) -> NDArray[np.int64]:
+def limb_columns(skeleton: Skeleton, names: tuple[str, ...]) -> NDArray[np.int64]:
+    """The pose-vector columns of the named joints' rotations (three per joint)."""
     return np.concatenate([np.arange(3 + 3 * skeleton.node_index(n), 6 + 3 * skeleton.node_index(n))
                            for n in names]).astype(np.int64)
 
 
-def _random_config(skeleton: Skeleton, names: tuple[str, ...], rng: np.random.Generator
-                   ) -> NDArray[np.float64]:
+def random_limb_config(skeleton: Skeleton, names: tuple[str, ...], rng: np.random.Generator
+                       ) -> NDArray[np.float64]:
+    """Rotations of the named joints drawn uniformly within the skeleton's joint limits
+    (narrowed per joint by ``_RANGE``), in :func:`limb_columns` order."""
     lo, hi = skeleton.limits
     out = []
     for n in names:
@@ -75,7 +78,7 @@ def _random_motion(skeleton: Skeleton, names: tuple[str, ...], n: int, key_every
                    rng: np.random.Generator) -> NDArray[np.float64]:
     """``n`` frames through a new random configuration every ``key_every`` frames,
     eased in and out (a blend of two configurations stays within the limit box)."""
-    keys = [_random_config(skeleton, names, rng) for _ in range((n - 1) // key_every + 2)]
+    keys = [random_limb_config(skeleton, names, rng) for _ in range((n - 1) // key_every + 2)]
     t = np.arange(n) / key_every
     k = np.minimum(t.astype(np.int64), len(keys) - 2)
     w = (t - k)[:, None]
@@ -113,7 +116,7 @@ def recombined_sequences(skeleton: Skeleton, sources: list[NDArray[np.float64]],
     if length < 2 or key_every < 1 or not 0 < speed[0] <= speed[1]:
         raise ConfigError("length must be at least 2 frames, key_every at least 1 and speed a "
                           "range of positive factors")
-    cols = [_columns(skeleton, g) for g in LIMB_GROUPS]
+    cols = [limb_columns(skeleton, g) for g in LIMB_GROUPS]
     out: list[NDArray[np.float64]] = []
     total = 0
     while total < frames:
