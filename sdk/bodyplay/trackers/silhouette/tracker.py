@@ -367,6 +367,8 @@ class SilhouetteTracker:
         ground = win.ground + step.shift[0] * mpp * win.views[2].R[0]
         lift = np.array([0.0, max(0.0, -step.shift[1] * mpp), 0.0])
         ratio = sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
+        leaf_mask = bt.runs[2].masks(np.array([step.leaf]))[0]  # the MAP leaf, level 3
+        placed = _moved(leaf_mask, step.shift)
         # joints: the few best leaves blended by posterior (the MAP leaf's pose vector)
         leaves = step.top[step.weights >= 0.2 * step.weights[0]]
         w = step.weights[: len(leaves)] / step.weights[: len(leaves)].sum()
@@ -383,33 +385,32 @@ class SilhouetteTracker:
                 pose[3:6] = (Rotation.from_matrix(R_align) * Rotation.from_rotvec(q[3:6])
                              ).as_rotvec()
         if self.options.arm_candidates:
-            joints, pose = self._refine_arms(body, step, joints, pose, R_align, ground + lift)
-        if self.options.head_depth_weight > 0:  # the head top's depth cue, along the sight line
-            move = self.options.head_depth_weight * self._head.add(
-                frames.t, self._head_offset(bt, step, win))
-            joints = joints + move * win.views[2].R[2]
-            pose = pose.copy()
-            pose[0:3] += move * win.views[2].R[2]
-        if self.options.stance_weight > 0:  # the feet's depth spread, along the sight line
+            joints, pose = self._refine_arms(body, step, joints, pose, R_align, ground + lift,
+                                             placed, ratio)
+        sight = win.views[2].R[2]  # depth cues move the body along the line of sight
+        move = 0.0
+        if self.options.head_depth_weight > 0:  # the head top's depth cue
+            move += self.options.head_depth_weight * self._head.add(
+                frames.t, self._head_offset(leaf_mask, step, win))
+        if self.options.stance_weight > 0:  # the feet's depth spread
             g = self.geometry
-            tmpl = _moved(bt.runs[2].masks(np.array([step.leaf]))[0], step.shift)
-            off = stance_offset(win.foreground[2], tmpl, g.floor_row(2), g.mpp(2),
+            off = stance_offset(win.foreground[2], placed, g.floor_row(2), g.mpp(2),
                                 win.distance, float(self._cam.center[1]),
                                 max(1, int(round(self.options.foot_band / g.mpp(2)))))
             if off is not None:  # offsets within the dead band are segmentation noise
                 off = float(np.sign(off)) * max(abs(off) - self.options.stance_deadband, 0.0)
-            move = self.options.stance_weight * self._stance.add(frames.t, off)
-            if move != 0.0:
-                joints = joints + move * win.views[2].R[2]
-                pose = pose.copy()
-                pose[0:3] += move * win.views[2].R[2]
+            move += self.options.stance_weight * self._stance.add(frames.t, off)
+        if move != 0.0:
+            joints = joints + move * sight
+            pose = pose.copy()
+            pose[0:3] += move * sight
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
             a = self.options.smooth
             joints = a * self._last.joints + (1 - a) * joints
         occl = tree.occluded[step.leaf]
         states: tuple[JointState, ...] = tuple(
             "inferred" if occl[_JOINT_PART[j]] else "tracked" for j in range(NUM_JOINTS))
-        template, protect = self._back_project(bt, step.leaf, step.shift, win, sil)
+        template, protect = self._back_project(leaf_mask, step.shift, win, sil)
         extras: dict[str, object] = {
             "silhouette": sil.foreground, "unknown": sil.unknown, "template": template,
             "silhouette_scale": sil.scale, "leaf": step.leaf, "distance": step.distance,
@@ -421,11 +422,11 @@ class SilhouetteTracker:
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
 
-    def _head_offset(self, bt: object, step: FilterStep, win: ObservedWindow) -> float | None:
+    def _head_offset(self, leaf_mask: NDArray[np.uint8], step: FilterStep, win: ObservedWindow
+                     ) -> float | None:
         """The head-top depth cue of this frame (:func:`.headdepth.head_depth_offset`)."""
         top = _head_top(win.foreground[2])
-        mask = bt.runs[2].masks(np.array([step.leaf]))[0]  # type: ignore[attr-defined]
-        tt = _head_top(mask)
+        tt = _head_top(leaf_mask)
         if top is None or tt is None:
             return None
         g = self.geometry
@@ -435,9 +436,12 @@ class SilhouetteTracker:
 
     def _refine_arms(self, body: str, step: FilterStep, joints: NDArray[np.float64],
                      pose: NDArray[np.float64], R_align: NDArray[np.float64],
-                     at: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+                     at: NDArray[np.float64], placed: NDArray[np.uint8], ratio: float
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Each arm of the MAP leaf searched on its own (:mod:`.armfit`); a replaced
-        arm's joints take the place of the blended ones."""
+        arm's joints take the place of the blended ones. ``placed``: the leaf's level-3
+        template moved by its fitted shift; ``ratio``: the body's pelvis height to the
+        tree's."""
         fitter = self._fitters.get(body)
         if fitter is None:
             assert self._atlas is not None  # built in __init__ when arm_candidates > 0
@@ -448,14 +452,14 @@ class SilhouetteTracker:
         lv = fitter.level
         f = 2.0 ** (lv - 2)
         sh = (step.shift[0] * f, step.shift[1] * f)
-        tmpl = _moved(bt.runs[2].masks(np.array([step.leaf]))[0], step.shift)
+        tmpl = placed
         if lv != 2:  # the leaf's own template (level 3) at the fitter's level
             w, h = self.geometry.size(lv)
             tmpl = (cv2.resize(tmpl.astype(np.float32), (w, h), interpolation=cv2.INTER_AREA)
                     >= 0.5).astype(np.uint8)
         sk = self._skeletons[body]
         q = self.tree.poses[self.tree.node_pose[2][step.leaf]].copy()
-        q[1] *= sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
+        q[1] *= ratio
         origin = q[0:3] - bt.offset[step.leaf]
         reference = (joints - at) @ R_align  # the blended joints, template frame
         fit = fitter.fit(q, origin, tmpl, self._maps_now[lv].cost, sh, reference)
@@ -473,12 +477,11 @@ class SilhouetteTracker:
                 pose[fitter.cols[s]] = fit.pose[fitter.cols[s]]
         return joints, pose
 
-    def _back_project(self, bt: object, leaf: int, shift: tuple[int, int], win: ObservedWindow,
-                      sil: Silhouette) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
-        """The chosen template in working-image pixels, and it dilated (the pixels the
-        background model must not learn)."""
-        runs = bt.runs[2]  # type: ignore[attr-defined]
-        mask = runs.masks(np.array([leaf]))[0]
+    def _back_project(self, mask: NDArray[np.uint8], shift: tuple[int, int],
+                      win: ObservedWindow, sil: Silhouette
+                      ) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
+        """The chosen template (its level-3 mask, moved by ``shift``) in working-image
+        pixels, and it dilated (the pixels the background model must not learn)."""
         H = _homography(self._cam, win.views[2], sil.scale)
         h, w = sil.foreground.shape
         move = np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]], [0.0, 0.0, 1.0]])
