@@ -68,6 +68,33 @@ def test_background_finds_a_player_who_stands_still_but_for_an_arm() -> None:
     assert sil.unknown[75:210, 30:200].sum() == 0  # nothing left "don't care" there
 
 
+@pytest.mark.parametrize("expiry", [0, 30])
+def test_background_forgets_guessed_player_pixels_the_tracker_never_puts_the_body_on(
+        expiry: int) -> None:
+    # the first frame's guess takes a still red cabinet beside the player along; the
+    # tracker's estimate (``protect``) never covers it: after ``guess_expiry`` frames
+    # it is background, while the still torso the estimate covers stays the player
+    rng = np.random.default_rng(2)
+    room = _room(rng)
+    room[150:420, 120:200] = (200, 40, 40)
+    model = BackgroundModel(BackgroundOptions(guess_expiry=expiry))
+    body = np.zeros((240, 320), bool)
+    body[70:215, 135:225] = True
+    for i in range(80):
+        img = room.copy()
+        img[150:420, 280:360] = (200, 40, 40)
+        y = 160 + 8 * (i % 20)
+        img[y : y + 30, 360:440] = (40, 60, 200)
+        sil = model.apply(img, body if i >= 10 else None)
+    fg = sil.foreground > 0
+    assert fg[75:210, 140:180].mean() > 0.95
+    cabinet = fg[80:205, 65:95].mean()
+    if expiry:
+        assert cabinet < 0.05
+    else:
+        assert cabinet > 0.95  # the guess took it: without expiry it stays "the player"
+
+
 def test_background_without_a_first_guess_resolves_nothing() -> None:
     # no GrabCut guess of the player (here turned off): the pixels not seen to change
     # stay unknown ("don't care") instead of being labelled the player

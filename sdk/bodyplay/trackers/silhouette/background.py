@@ -190,6 +190,7 @@ class BackgroundModel:
         self.occupied: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self.player: NDArray[np.bool_] | None = None
         self._ghost: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self._away: NDArray[np.int32] = np.zeros((0, 0), np.int32)
         self._resolving = False
         self._frames = 0
 
@@ -261,6 +262,7 @@ class BackgroundModel:
             shown = (((differs > 0) & ~(self._ghost & ~self.known))
                      | (self.player & ~self.known)).astype(np.uint8)
         fg = self._clean(shown)
+        given = protect is not None
         if protect is None:
             r = max(3, int(0.1 * x.shape[0]))
             protect = cv2.dilate(moved,
@@ -272,6 +274,8 @@ class BackgroundModel:
             raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
                                f"{fg.shape[::-1]}")
         if self.player is not None:
+            if given and o.guess_expiry:
+                self._expire(protect)
             protect = protect | (self.player & ~self.known)
         _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,
                np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
@@ -281,6 +285,19 @@ class BackgroundModel:
             unknown[:] = 0
         region = fg | (self.occupied & ~self.known).astype(np.uint8)
         return Silhouette(fg, unknown, x.shape[1] / image.shape[1], region)
+
+    def _expire(self, protect: NDArray[np.bool_]) -> None:
+        """Still pixels resolved as the player that have stayed away from the
+        tracker's estimate (``protect``) for ``guess_expiry`` frames are not the
+        player (cabinets behind him that GrabCut took along): they stop being
+        protected and are learned as background."""
+        assert self.player is not None and self.known is not None
+        if self._away.shape != protect.shape:
+            self._away = np.zeros(protect.shape, np.int32)
+        away = self.player & ~self.known & ~protect
+        self._away[away] += 1
+        self._away[~away] = 0
+        self.player &= self._away < self.options.guess_expiry
 
     def _resolve(self, image: NDArray[np.uint8], size: tuple[int, int],
                  differs: NDArray[np.uint8]) -> None:

@@ -33,7 +33,9 @@ class BackgroundOptions:
     labelled player or background by GrabCut seeded with the learned model
     (``resolve_iterations`` iterations; 0 turns it off and leaves them "don't care"),
     ``guess_margin`` the pixels around the first guess that are not taken as known
-    background from the first frame.
+    background from the first frame; ``guess_expiry``: still pixels resolved as the
+    player that stay outside the tracker's estimate of the body for that many frames
+    are learned as background after all (0: never).
     """
 
     threshold: float = 4.0
@@ -51,6 +53,7 @@ class BackgroundOptions:
     resolve_every: int = 5
     guess_margin: int = 3
     resolve_iterations: int = 2
+    guess_expiry: int = 30
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -58,8 +61,9 @@ class BackgroundOptions:
         if self.learn_after < 1 or self.relearn_after < self.learn_after:
             raise ConfigError("background learn_after must be at least 1 frame and "
                               "relearn_after at least learn_after")
-        if self.resolve_every < 0 or self.guess_margin < 0:
-            raise ConfigError("background resolve_every and guess_margin must be >= 0")
+        if self.resolve_every < 0 or self.guess_margin < 0 or self.guess_expiry < 0:
+            raise ConfigError("background resolve_every, guess_margin and guess_expiry must "
+                              "be >= 0")
         if self.working_size < 60:
             raise ConfigError("background working_size must be at least 60 pixels")
 
@@ -168,8 +172,9 @@ class SilhouetteOptions:
     floor point may move away from the camera (feet hidden by a bow or a lost leg
     would put it metres away); ``bootstrap_time``: seconds after the start during
     which the first frame's guess of the player counts for the floor point;
-    ``protect_radius``: how far (share of the working image's height) the estimated
-    body is dilated into the region the background model must not learn (0.04 gave
+    ``protect_radius``: how far (share of the working image's short side, so that
+    portrait footage is not over-protected) the estimated body is dilated into the
+    region the background model must not learn (0.04 gave
     24.6 / 24.7 cm median / worst on the tune clips, 0.12 gave 20.0 / 21.4: a wide
     margin keeps limbs the pose missed from being learned as background);
     ``beta``: eq. 10's weight on silhouette pixels a template leaves uncovered (the

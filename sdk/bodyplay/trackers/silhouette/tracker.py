@@ -487,7 +487,7 @@ class SilhouetteTracker:
         move = np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]], [0.0, 0.0, 1.0]])
         back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H) @ move, (w, h),
                                    flags=cv2.INTER_LINEAR) >= 128
-        r = max(2, int(self.options.protect_radius * h))
+        r = max(2, int(self.options.protect_radius * min(h, w)))
         k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
         protect = cv2.dilate(back.astype(np.uint8), k) > 0
         return back.astype(np.uint8), protect
