@@ -263,6 +263,46 @@ def test_algorithm_1_prototypes_cover_their_clusters_within_the_threshold(
         assert assign[p] == k
 
 
+def _arms(kind: str) -> np.ndarray:
+    m = np.zeros((80, 60), np.uint8)
+    m[10:70, 25:35] = 1  # head, torso and legs
+    if kind == "spread":
+        m[20:24, 6:54] = 1  # both arms out to the sides
+    elif kind == "folded":
+        m[22:30, 21:39] = 1  # forearms across the chest, elbows just outside it
+    return m
+
+
+@pytest.mark.parametrize("membership", ["member", "both"])
+def test_algorithm_1_in_the_filters_direction_keeps_a_folded_pose_out_of_a_spread_cluster(
+        membership: str) -> None:
+    from bodyplay.trackers.silhouette.hierarchy import cluster_level
+
+    runs = encode_runs(np.stack([_arms("spread"), _arms("spread"), _arms("folded")]))
+    rng = np.random.default_rng(0)
+    # the paper's direction: the folded silhouette lies inside the spread one, so it
+    # joins the spread prototype, whose template the filter scores far from a fold
+    protos, assign = cluster_level(runs, np.arange(3), 0.06, rng)
+    assert len(protos) == 1
+    folded_maps = distance_maps(_arms("folded"), beta=5.0)
+    assert score_direct(folded_maps, _arms("spread")) > 0.06
+    # scored as the filter will (the member observed, beta 5): the fold has its own
+    # prototype, and every member is within the threshold of its prototype that way
+    protos, assign = cluster_level(runs, np.arange(3), 0.06, rng, membership, beta=5.0)
+    assert len(protos) == 2 and assign[2] != assign[0] and assign[0] == assign[1]
+    masks = runs.masks()
+    for m, k in enumerate(assign):
+        observed = distance_maps(masks[m], beta=5.0)
+        assert score_direct(observed, masks[protos[k]]) <= 0.06 + 1e-9
+
+
+def test_hierarchy_options_reject_an_unknown_membership() -> None:
+    with pytest.raises(ConfigError, match="membership"):
+        HierarchyOptions(membership=("prototype", "sideways", "both"))  # type: ignore[arg-type]
+    assert "membership" not in dict(HierarchyOptions().key_items())  # old caches stay valid
+    assert "membership" in dict(HierarchyOptions(membership=("both",) * 3).key_items())
+
+
 def test_tree_levels_partition_the_poses(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
     tree = silhouette_tree
     sizes = tree.level_sizes

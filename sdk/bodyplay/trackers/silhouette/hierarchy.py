@@ -78,26 +78,74 @@ PART_JOINTS: tuple[tuple[str, ...], ...] = (
 )
 
 
+class _MemberCosts:
+    """The tracker's per-pixel cost of every member's silhouette as the *observed*
+    shape (eq. 11 with the tracker's beta), as one dense matrix: the distance the
+    filter will give a prototype's template when that member is in front of the
+    camera is one gather-and-sum per prototype."""
+
+    def __init__(self, runs: TemplateRuns, members: NDArray[np.int64], beta: float) -> None:
+        masks = runs.masks(members)
+        self.cost = np.empty((len(members), runs.width * runs.height), np.float32)
+        self.base = np.empty(len(members), np.float64)
+        for k, m in enumerate(masks):
+            dm = distance_maps(m, beta=beta)
+            self.cost[k] = dm.cost.ravel()
+            self.base[k] = dm.base
+        self.area = float(runs.width * runs.height)
+        self.runs = runs
+
+    def score(self, template: int, rows: NDArray[np.int64] | slice = slice(None)
+              ) -> NDArray[np.float64]:
+        """d(member observed, ``template``) for the members ``rows``."""
+        pix = np.flatnonzero(self.runs.masks(np.array([template]))[0].ravel())
+        return (self.cost[rows][:, pix].sum(axis=1, dtype=np.float64)
+                + self.base[rows]) / self.area
+
+
 def cluster_level(runs: TemplateRuns, members: NDArray[np.int64], threshold: float,
-                  rng: np.random.Generator) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+                  rng: np.random.Generator, membership: str = "prototype",
+                  beta: float = 5.0) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """Algorithm 1 for one node: prototypes (indices into ``runs``) and, per member,
-    the position of its prototype in that list."""
+    the position of its prototype in that list.
+
+    ``membership`` is the direction of the distance: "prototype" scores the
+    member's template against the prototype as the observed shape (beta 1: a
+    compact pose lies inside a spread-out prototype at little cost); "member"
+    scores the prototype's template against the member as the observed shape
+    with the tracker's ``beta`` (the distance the filter computes when that
+    member is in front of the camera); "both" takes the larger of the two, so a
+    member is near its prototype whichever shape is observed."""
     members = np.asarray(members, np.int64)
     if len(members) == 1:
         return members.copy(), np.zeros(1, np.int64)
+    if membership not in ("prototype", "member", "both"):
+        raise ConfigError(f"membership must be 'prototype', 'member' or 'both', got "
+                          f"{membership!r}")
     masks_cache: dict[int, object] = {}
+    costs = _MemberCosts(runs, members, beta) if membership != "prototype" else None
+    position = {int(m): k for k, m in enumerate(members)}
 
     def maps(i: int):  # type: ignore[no-untyped-def]
         if i not in masks_cache:
             masks_cache[i] = distance_maps(runs.masks(np.array([i]))[0])
         return masks_cache[i]
 
+    def dist(p: int, among: NDArray[np.int64]) -> NDArray[np.float64]:
+        """Distance of each of ``among`` (members) to prototype ``p``."""
+        if costs is None:
+            return score_runs(maps(p), runs, among)  # type: ignore[arg-type]
+        rev = costs.score(p, np.array([position[int(m)] for m in among], np.int64))
+        if membership == "member":
+            return rev
+        return np.maximum(rev, score_runs(maps(p), runs, among))  # type: ignore[arg-type]
+
     # 1. the pose of smallest mean distance to the others (estimated on a sample)
     cand = members if len(members) <= 48 else rng.choice(members, 48, replace=False)
     refs = members if len(members) <= 256 else rng.choice(members, 256, replace=False)
-    means = [float(score_runs(maps(int(c)), runs, refs).mean()) for c in cand]
+    means = [float(dist(int(c), refs).mean()) for c in cand]
     protos = [int(cand[int(np.argmin(means))])]
-    dmin = score_runs(maps(protos[0]), runs, members)
+    dmin = dist(protos[0], members)
     assign = np.zeros(len(members), np.int64)
     # 2. add the farthest pose while it is farther than the threshold
     while True:
@@ -106,7 +154,7 @@ def cluster_level(runs: TemplateRuns, members: NDArray[np.int64], threshold: flo
             break
         p = int(members[far])
         protos.append(p)
-        d = score_runs(maps(p), runs, members)
+        d = dist(p, members)
         closer = d < dmin
         dmin = np.where(closer, d, dmin)
         assign[closer] = len(protos) - 1
@@ -292,7 +340,8 @@ def build_tree(options: HierarchyOptions, progress: bool = False) -> ShapeTree:
         parents_l: list[int] = []
         new_groups: list[NDArray[np.int64]] = []
         for parent, members in enumerate(groups):
-            protos, assign = cluster_level(rendered.runs[lv], members, options.thresholds[lv], rng)
+            protos, assign = cluster_level(rendered.runs[lv], members, options.thresholds[lv],
+                                           rng, options.membership[lv], options.membership_beta)
             for k, p in enumerate(protos):
                 new_groups.append(members[assign == k])
                 protos_l.append(int(p))

@@ -112,8 +112,16 @@ class HierarchyOptions:
     recombine_swap: float = 0.5
     recombine_random: float = 0.2
     clamp: bool = True
+    membership: tuple[str, str, str] = ("prototype", "prototype", "prototype")
+    membership_beta: float = 5.0
 
     def __post_init__(self) -> None:
+        if len(self.membership) != 3 or any(m not in ("prototype", "member", "both")
+                                            for m in self.membership):
+            raise ConfigError("membership must name, per level 1..3, 'prototype', 'member' "
+                              f"or 'both', got {self.membership!r}")
+        if self.membership_beta <= 0:
+            raise ConfigError("membership_beta must be > 0")
         if not 0 <= self.recombine_share <= 10:
             raise ConfigError("recombine_share must be within 0..10 (a share of the clip frames)")
         if not (0 <= self.recombine_swap <= 1 and 0 <= self.recombine_random <= 1
@@ -141,6 +149,8 @@ class HierarchyOptions:
                 del items[k]
         if self.clamp:
             del items["clamp"]
+        if all(m == "prototype" for m in self.membership):
+            del items["membership"], items["membership_beta"]
         return sorted(items.items())
 
 
