@@ -125,13 +125,21 @@ def silhouette_options(folder: Path | None = None) -> Any:
 
     Measured on the tune half of ``benchmarks/ninja_gestures.py`` (docs/ninja.md):
     the clip poses are not clamped into the joint limits (the hit swings the
-    shoulder to 1.9 rad, past its 1.7 limit); ``explore`` 8 (3 let the filter
-    prune the hit's subtree, whose coarse prototypes ranked 5th); ``sigma`` 0.5
-    (0.25: 13 false hits, 0.5: 7); no per-arm refinement (``arm_candidates`` 0; on,
-    hit recall 1.00 -> 0.75 and double hit 1.00 -> 0.50)."""
+    shoulder to 1.9 rad, past its 1.7 limit); Algorithm 1 clusters with the
+    larger of the distance's two directions at every level
+    (``HierarchyOptions.membership``: a member is near its prototype both as the
+    observed shape and as the template the filter scores, so the folded arms of
+    transfigure no longer hang under a prototype with the arms spread, which the
+    filter scores far from a fold and prunes: transfigure recall 0.00 -> 0.75);
+    ``explore`` 24 (the tree is finer at the top, 2,910 level-1 nodes instead of
+    540: 8 left hits pruned); ``sigma`` 0.35 (0.5: 2 false hits, 1 false double
+    hit, transfigure 0.75, hit 0.50; 0.25: transfigure 0.25); no per-arm
+    refinement (``arm_candidates`` 0; on, hit recall 1.00 -> 0.75 and double hit
+    1.00 -> 0.50)."""
     from bodyplay.motion import list_builtin_clips
     from bodyplay.trackers.silhouette.options import HierarchyOptions, SilhouetteOptions
 
     clips = tuple(list_builtin_clips()) + (str(ninja_training_clip(folder)),)
-    return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips, clamp=False),
-                             explore=8, sigma=0.5, arm_candidates=0)
+    return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips, clamp=False,
+                                                        membership=("both", "both", "both")),
+                             explore=24, sigma=0.35, arm_candidates=0)
