@@ -49,6 +49,16 @@ the player (the limbs that moved out of the guess), the unknown pixels are
 Without a guess (``bootstrap`` off, or nothing found) or before the first
 resolution, unknown pixels are "don't care" to the distance and the guess only
 helps to find the floor point.
+
+Without a guess nothing held the player's still parts from being learned before
+the tracker's first pose but the neighbourhood of what moved this frame: a player
+who moves only the arms lost the still legs and torso to the background by the
+12th frame. ``hold_below`` keeps, until the first pose, every unknown pixel under
+and beside what has moved since the start (each column from its highest moved
+pixel down to the image's bottom, widened: :attr:`BackgroundModel.held`) from
+being learned, for at most ``hold_guess`` frames, like the guess; they stay "don't
+care", and the tracker finds how far the player stands from the shape of what
+moves (:mod:`.shapestart`).
 """
 
 from __future__ import annotations
@@ -173,6 +183,22 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
 
 
+def _below(stirred: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
+    """The pixels under and beside what has moved: in each column, from its highest
+    moved pixel down to the image's bottom, widened by ``reach`` pixels either side
+    (a player who moves only the arms stands on still legs under them)."""
+    cols = stirred.any(axis=0)
+    out = np.zeros(stirred.shape, bool)
+    if not cols.any():
+        return out
+    top = np.where(cols, stirred.argmax(axis=0), stirred.shape[0])
+    # the highest moved row of the columns within reach (a sliding minimum)
+    pad = np.pad(top, reach, mode="constant", constant_values=stirred.shape[0])
+    near = np.lib.stride_tricks.sliding_window_view(pad, 2 * reach + 1).min(axis=1)
+    out[:] = np.arange(stirred.shape[0])[:, None] >= near[None, :]
+    return out
+
+
 class BackgroundModel:
     """The running per-pixel Gaussian background model (see the module docstring)."""
 
@@ -193,6 +219,14 @@ class BackgroundModel:
         self._away: NDArray[np.int32] = np.zeros((0, 0), np.int32)
         self._resolving = False
         self._frames = 0
+        self._stirred: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self.held: NDArray[np.bool_] | None = None
+
+    @property
+    def guessing(self) -> bool:
+        """Whether the first frame's guess of the player is being resolved (there was
+        one and it was not dropped)."""
+        return self._resolving
 
     def drop_guess(self) -> None:
         """The tracker found the first frame's guess wrong (it took a treadmill or a
@@ -234,6 +268,7 @@ class BackgroundModel:
             self.occupied = (first_guess(image, x.shape[1::-1]) if o.bootstrap
                              else np.zeros(x.shape[:2], bool))
             self._was_diff = np.zeros(x.shape[:2], bool)
+            self._stirred = np.zeros(x.shape[:2], bool)
             self.player = None
             # without a first guess there is nothing to resolve: unknown stays "don't care"
             self._resolving = bool(o.resolve_every and self.occupied.any())
@@ -270,9 +305,19 @@ class BackgroundModel:
                                  ) > 0
             if self._frames < o.hold_guess:  # the first guess of the player waits a while
                 protect |= self.occupied
-        elif protect.shape != fg.shape:
-            raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works at "
-                               f"{fg.shape[::-1]}")
+            if o.hold_below and self._frames < o.hold_guess:  # so does the still body
+                self._stirred |= cv2.morphologyEx(moved, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)
+                                                  ) > 0  # not single noisy pixels
+                self.held = _below(self._stirred, r) & ~self.known
+                protect |= self.held
+            else:
+                self.held = None
+        else:
+            if protect.shape != fg.shape:
+                raise CaptureError(f"protect mask is {protect.shape[::-1]}, the model works "
+                                   f"at {fg.shape[::-1]}")
+            self._stirred[:] = False  # the tracker has the player: start over when lost
+            self.held = None
         if self.player is not None:
             if given and o.guess_expiry:
                 self._expire(protect)
@@ -284,6 +329,8 @@ class BackgroundModel:
         if self.player is not None:  # resolved: the rest of the unknown is background
             unknown[:] = 0
         region = fg | (self.occupied & ~self.known).astype(np.uint8)
+        if self.held is not None:  # where the player has moved (the feet, once) counts too
+            region |= (self._stirred & ~self.known).astype(np.uint8)
         return Silhouette(fg, unknown, x.shape[1] / image.shape[1], region)
 
     def _expire(self, protect: NDArray[np.bool_]) -> None:

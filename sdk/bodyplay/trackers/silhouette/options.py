@@ -29,6 +29,10 @@ class BackgroundOptions:
     model works on (the paper: 640x480 down-sampled to 320x240); ``bootstrap``: take
     the first frame's likely figure (GrabCut) as the player until it is learned,
     ``hold_guess`` the frames it is kept from learning while the tracker has no pose;
+    ``hold_below``: while the tracker has no pose (for at most ``hold_guess``
+    frames), the pixels under and beside what has moved since (each column from its
+    highest moved pixel down) are not learned either (the still legs and torso of a
+    player who moves the arms, when there is no first guess to hold them);
     ``resolve_every``: every that many frames the unknown pixels inside the guess are
     labelled player or background by GrabCut seeded with the learned model
     (``resolve_iterations`` iterations; 0 turns it off and leaves them "don't care"),
@@ -50,6 +54,7 @@ class BackgroundOptions:
     working_size: int = 240
     bootstrap: bool = True
     hold_guess: int = 60
+    hold_below: bool = True
     resolve_every: int = 5
     guess_margin: int = 3
     resolve_iterations: int = 2
@@ -218,6 +223,13 @@ class SilhouetteOptions:
     pixels of segmentation at the feet read as a stance; the nine tune captures
     11.6 / 18.9 / 11.1 cm median / worst / mean of clip medians, 10.5 / 18.7 / 10.4
     with the cue and no dead band, 10.7 / 18.4 / 10.2 with 0.04 m; docs/silhouette.md);
+    ``shape_frames``: when there is no first-frame guess of the player (none found,
+    or dropped) and the feet are not seen, the floor distance is the median over
+    that many frames of the distance at which the templates fit what moves best
+    (:mod:`.shapestart`; 0: off, wait for a whole person to move), used until a
+    floor point from the silhouette agrees with it within ``shape_agree`` (a share
+    of the distance); a floor point that disagrees before the first pose is taken
+    for a part of the body (the knees of a still player) and not used;
     ``cache``: hierarchy cache folder.
     """
 
@@ -256,6 +268,8 @@ class SilhouetteOptions:
     stance_weight: float = 1.0
     stance_window: float = 0.5
     stance_deadband: float = 0.04
+    shape_frames: int = 5
+    shape_agree: float = 0.25
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -266,6 +280,9 @@ class SilhouetteOptions:
             raise ConfigError("stance_weight must be in [0, 1] (0: the template's own stance)")
         if self.stance_window < 0 or self.stance_deadband < 0:
             raise ConfigError("stance_window must be >= 0 seconds and stance_deadband >= 0 m")
+        if self.shape_frames < 0 or self.shape_agree <= 0:
+            raise ConfigError("shape_frames must be >= 0 (0: no start from the shape) and "
+                              "shape_agree > 0")
         if self.head_min_lever <= 0:
             raise ConfigError("head_min_lever must be > 0 metres")
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:

@@ -13,6 +13,12 @@ within ``stature_tolerance`` of the best median match are candidates and the one
 of smallest mean distance among them is kept (the distance alone favoured large
 presets, and differs by a few percent between them).
 
+When there is no first-frame guess of the player (GrabCut took a cup or a wall of
+posters with the player, or the guess was dropped) the floor point may come from
+the knees or the elbows of a player who stands still: until a floor point agrees
+with it, the floor distance is the one at which the templates fit what moves best
+(:mod:`.shapestart`, median over ``shape_frames`` frames).
+
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
 has vanished for less than ``lost_after`` seconds (the issue's "predicted"),
@@ -50,6 +56,7 @@ from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
 from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
+from bodyplay.trackers.silhouette.shapestart import shape_distance, window_at_distance
 from bodyplay.trackers.silhouette.stance import stance_offset
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
@@ -153,6 +160,8 @@ class SilhouetteTracker:
         self._short: dict[str, float] = {}
         self._head = RunningMedian(self.options.head_depth_window)
         self._stance = RunningMedian(self.options.stance_window)
+        self._shape_ds: list[float] = []
+        self._shape_d: float | None = None
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -211,6 +220,11 @@ class SilhouetteTracker:
                 win2, ok2 = self._floor_window(moved, cap, start)
                 if ok2:  # else what moved is not a whole person yet: no pose
                     sil, win, floor_ok = moved, win2, True
+        if (self.options.shape_frames and not self.background.guessing
+                and (self._started is None or self._shape_d is not None)):
+            # no first guess of the player to find the feet in: the distance from the shape
+            win, ok = self._from_shape(sil, win if ok and floor_ok else None)
+            floor_ok = True
         if win is not None and floor_ok:
             self._depths.append((frames.t, win.distance))
         if win is None or not ok or not floor_ok:
@@ -241,6 +255,37 @@ class SilhouetteTracker:
         stages["output"] = time.perf_counter() - tic
         result.extras["stages"] = stages
         return result
+
+    def _from_shape(self, sil: Silhouette, seen: ObservedWindow | None
+                    ) -> tuple[ObservedWindow | None, bool]:
+        """The window when the feet may not be seen (:mod:`.shapestart`): before the
+        first pose, the median over ``shape_frames`` frames of the distance the
+        templates fit best at; ``seen`` (the floor point of the silhouette's lowest
+        pixel, when plausible) is used when it agrees with it, else the distance
+        from the shape is kept until one does."""
+        o = self.options
+        if self._started is None:
+            held = self.background.held
+            if held is None or not held.any():  # nothing still and unseen (an empty room
+                return seen, seen is not None  # learned before the player came): as is
+            known = self.background.known
+            if not sil.foreground.any() or known is None or known.mean() < 0.25:
+                return None, False  # what the templates may not cover is not known yet
+            bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
+            d = shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
+                               sil.scale, 1.0, self.max_distance, beta=o.beta, level=1)
+            if d is not None:
+                self._shape_ds.append(d)
+            if len(self._shape_ds) < o.shape_frames:
+                return None, False  # not sure yet where the player stands
+            self._shape_d = float(np.median(self._shape_ds[-3 * o.shape_frames:]))
+        assert self._shape_d is not None
+        if seen is not None and abs(seen.distance - self._shape_d) <= o.shape_agree * self._shape_d:
+            self._shape_d = None  # the feet are seen where the shape says
+            return seen, True
+        win = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
+                                 sil.scale, self._shape_d)
+        return win, win is not None
 
     def _plausible(self, win: ObservedWindow) -> bool:
         """A person: at least ``min_height`` tall, not wider than the window, standing

@@ -30,7 +30,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.trackers.silhouette.options import LEVEL_SIZES
 
 __all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow", "select_person",
-           "feet_like", "farthest_person"]
+           "feet_like", "farthest_person", "window_at", "sight_direction"]
 
 _DOWN = np.array([0.0, -1.0, 0.0])
 
@@ -246,11 +246,36 @@ def observe(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uin
     if want is not None and raw > 0:
         g = c + off * (want / raw)
         g[1] = 0.0
+    return window_at(geometry, camera, foreground, unknown, scale, g, raw, given)
+
+
+def window_at(geometry: WindowGeometry, camera: Camera, foreground: NDArray[np.uint8],
+              unknown: NDArray[np.uint8], scale: float, ground: NDArray[np.float64],
+              distance: float | None = None, region: NDArray[np.uint8] | None = None
+              ) -> ObservedWindow:
+    """The working-resolution masks resampled into the window at floor point
+    ``ground`` (``distance``: the distance to report, default G's own)."""
+    c = camera.center
+    g = np.asarray(ground, np.float64)
+    if distance is None:
+        distance = float(np.hypot(*(g - c)[[0, 2]]))
     views = tuple(geometry.view(c, g, lv) for lv in range(3))
     H = _homography(camera, views[2], scale)
     fg3 = _warp(foreground, H, geometry.size(2))
     un3 = _warp(unknown, H, geometry.size(2))
     fgs = (_down(fg3, geometry.size(0)), _down(fg3, geometry.size(1)), fg3)
     uns = (_down(un3, geometry.size(0)), _down(un3, geometry.size(1)), un3)
-    reg = None if given is None else _down(_warp(given, H, geometry.size(2)), geometry.size(0))
-    return ObservedWindow(fgs, uns, g, views, raw, reg)
+    reg = None if region is None else _down(_warp(region, H, geometry.size(2)), geometry.size(0))
+    return ObservedWindow(fgs, uns, g, views, distance, reg)
+
+
+def sight_direction(camera: Camera, u: float) -> NDArray[np.float64] | None:
+    """The horizontal unit direction from the camera to the floor seen at image
+    column ``u`` (at the image's bottom row; None when the camera sees no floor there)."""
+    g = floor_point(camera, u, camera.height - 0.5)
+    if g is None:
+        return None
+    off = g - camera.center
+    off[1] = 0.0
+    n = float(np.linalg.norm(off))
+    return off / n if n > 1e-9 else None

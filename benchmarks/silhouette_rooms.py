@@ -1,0 +1,272 @@
+"""Room variety of the silhouette tracker: rooms it was not tuned in, the player in view.
+
+``silhouette_bench.py`` renders every capture in front of one wall (the grey
+``brick`` photo), the room the tracker's settings were chosen in. A player's room
+is anything: furniture the colour of their clothes, big objects behind them,
+texture everywhere. This check renders a few clips in several rooms:
+
+* **rooms**: the shipped background photos (``astronaut``, ``brick``, ``camera``,
+  ``chelsea``, ``coffee``, ``grass``, ``gravel``, ``rocket``: big objects, faces,
+  texture) and the generated rooms of ``colorshirt_validation.py`` (``posters``,
+  ``fruit``, ``clothes``: a wall and floor full of saturated colours), cached as
+  PNG under ``--work``;
+* **halves**: the rooms and the clips are split. The **tune** half: the rooms
+  ``brick`` (where the tracker was tuned), ``coffee`` (the room it was first seen
+  to fail in), ``chelsea``, ``gravel``, ``posters`` with the tracker's tune clips
+  (13_29 from 10 s, bow, raise-up-left-hand, wave-right-hand, kick). The
+  **report** half: ``astronaut``, ``camera``, ``rocket``, ``grass``, ``fruit``,
+  ``clothes`` with ``silhouette_bench.py``'s report clips (13_29 from 2 s, 131_03,
+  wave-both-hands, punch, raise-up-both-hands, dance-short). Settings are chosen
+  on the tune half only; the report half is run to report;
+* each room shows ``--clips-per-room`` clips of its half (room *i* takes clips *i*,
+  *i* + 1, ... of the half's list, so every clip is seen in as many rooms);
+* one camera, 640x480, actor ``m``, steady light, the player in view from the
+  first frame (no empty-room lead-in), ``--seconds`` of each clip.
+
+Per capture: MPJPE over all 17 joints in the world (median over the frames with a
+pose, and the mean), the share of frames with a pose, the first frame with one,
+the body preset chosen and the tracker's CPU time per frame (process time, median).
+Per room: the median and the worst of its clips' medians and the fewest frames
+with a pose; then over the half: the median of the rooms and the worst room.
+A capture without any pose counts as the worst (its MPJPE is printed as ``-``).
+
+    nice .venv/bin/python benchmarks/silhouette_rooms.py                 # report half
+    nice .venv/bin/python benchmarks/silhouette_rooms.py --half tune --set stance_weight=0
+    nice .venv/bin/python benchmarks/silhouette_rooms.py --in brick     # the same clips in brick
+    .venv/bin/python benchmarks/silhouette_rooms.py --list
+
+Captures are rendered once into ``--work`` (about 5 s each); tracking a half takes
+a few minutes on two shared cores.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bodyplay.capture.frames import FrameSet
+from bodyplay.capture.jsonl import read_pose_jsonl
+from bodyplay.capture.sources import open_source
+from bodyplay.trackers.silhouette import (
+    SilhouetteOptions,
+    create_silhouette_tracker,
+    load_or_build_tree,
+)
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _machine import machine  # noqa: E402
+from colorshirt_validation import CLUTTER_ROOMS, room_path  # noqa: E402
+
+DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+BANDAI = DATA / "mocap" / "bandai_namco"
+ROOMS = {
+    "tune": ("coffee", "brick", "chelsea", "gravel", "posters"),
+    "report": ("astronaut", "camera", "rocket", "grass", "fruit", "clothes"),
+}
+"""Rooms of each half; ``posters``, ``fruit`` and ``clothes`` are generated."""
+CLIPS = {
+    "tune": (("13_29", 10.0), ("dataset-1_bow_normal_001", 0.0),
+             ("dataset-2_raise-up-left-hand_normal_001", 0.0),
+             ("dataset-2_wave-right-hand_normal_001", 0.0), ("dataset-1_kick_normal_001", 0.0)),
+    "report": (("13_29", 2.0), ("131_03", 0.0), ("dataset-2_wave-both-hands_normal_001", 0.0),
+               ("dataset-1_punch_normal_001", 0.0),
+               ("dataset-2_raise-up-both-hands_normal_001", 0.0),
+               ("dataset-1_dance-short_normal_001", 0.0)),
+}
+"""Clips of each half (name or Bandai file stem, start in seconds)."""
+
+
+def short(clip: str) -> str:
+    """A clip's name without the Bandai dataset prefix and take number."""
+    if clip.startswith("dataset"):
+        return clip.split("_", 1)[1].rsplit("_normal", 1)[0]
+    return clip
+
+
+def plan(half: str, per_room: int) -> list[tuple[str, str, float]]:
+    """(room, clip, start) of a half: room *i* shows clips *i*, *i* + 1, ... of the
+    half's list; Bandai clips only when ../shared holds them."""
+    clips = [c for c in CLIPS[half] if not c[0].startswith("dataset") or BANDAI.is_dir()]
+    out = []
+    for i, room in enumerate(ROOMS[half]):
+        for k in range(min(per_room, len(clips))):
+            clip, start = clips[(i + k) % len(clips)]
+            out.append((room, clip, start))
+    return out
+
+
+def capture(work: Path, room: str, clip: str, start: float, seconds: float) -> Path:
+    """The one-camera capture of a clip in a room, rendered once (no lead-in)."""
+    out = work / "captures" / f"{room}_{short(clip)}_{start:g}_{seconds:g}s"
+    if not (out / "truth.jsonl").exists():
+        src = str(BANDAI / f"{clip}.bvh") if clip.startswith("dataset") else clip
+        background = room_path(work, room) if room in CLUTTER_ROOMS else room
+        tmp = out.with_name(f"{out.name}.tmp{os.getpid()}")  # renamed once complete
+        cmd = [sys.executable, "-m", "bodyplay.cli", "synth", "--clip", src, "--out", str(tmp),
+               "--seconds", str(seconds), "--start", str(start), "--background", background]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        shutil.rmtree(out, ignore_errors=True)
+        tmp.rename(out)
+    return out
+
+
+def track(folder: Path, options: SilhouetteOptions, tree: Any) -> dict[str, Any]:
+    """Run the tracker over a capture: MPJPE per frame (17 joints), poses, CPU time."""
+    truth = read_pose_jsonl(folder / "truth.jsonl")
+    src = open_source(folder)
+    assert src.cameras is not None
+    tracker = create_silhouette_tracker(options, src.cameras[:1], tree=tree)
+    errs: list[float] = []
+    cpu: list[float] = []
+    first = -1
+    frames = 0
+    with src:
+        for fs in src:
+            c0 = time.process_time()
+            r = tracker.process(FrameSet(fs.frames[:1], fs.t, fs.index))
+            cpu.append(1000 * (time.process_time() - c0))
+            T = truth.joints[fs.index]
+            if not np.isfinite(T).all():
+                continue
+            frames += 1
+            e = np.linalg.norm(r.joints - T, axis=1) if r.found else np.full(17, np.nan)
+            if np.isfinite(e).all():
+                errs.append(float(e.mean()))
+                if first < 0:
+                    first = frames - 1
+    e = 100 * np.array(errs)
+    return {"median_cm": float(np.median(e)) if e.size else float("nan"),
+            "mean_cm": float(e.mean()) if e.size else float("nan"),
+            "found": len(errs) / max(frames, 1), "first": first, "frames": frames,
+            "body": tracker.body_name, "cpu_ms": float(np.median(cpu[1:])) if cpu else 0.0}
+
+
+def _worst(values: list[float]) -> float:
+    """The worst of clip medians; a capture without a pose is the worst (inf)."""
+    return max(v if np.isfinite(v) else np.inf for v in values)
+
+
+def summarize(rows: list[dict[str, Any]]) -> list[str]:
+    """Per room: median / worst clip, fewest frames with a pose; then the half's
+    median of rooms and its worst room (markdown lines)."""
+    def fmt(v: float) -> str:
+        return f"{v:.1f}" if np.isfinite(v) else "-"
+
+    lines = ["| room | clips | MPJPE median of clips / worst clip (cm) | frames with a pose, "
+             "fewest | first frame with a pose, latest |", "|---|---|---|---|---|"]
+    meds, worsts = [], []
+    for room in dict.fromkeys(r["room"] for r in rows):
+        sel = [r for r in rows if r["room"] == room]
+        v = [r["median_cm"] if r["found"] > 0 else float("inf") for r in sel]
+        med, worst = float(np.median(v)), _worst(v)
+        meds.append(med)
+        worsts.append(worst)
+        lines.append(f"| {room} | {', '.join(short(r['clip']) for r in sel)} | {fmt(med)} / "
+                     f"{fmt(worst)} | {100 * min(r['found'] for r in sel):.0f}% | "
+                     f"{max(r['first'] for r in sel)} |")
+    found = [r["found"] for r in rows]
+    lines.append(f"| **all rooms: median of rooms / worst room** | {len(rows)} captures | "
+                 f"**{fmt(float(np.median(meds)))} / {fmt(max(worsts))}** | "
+                 f"{100 * float(np.median(found)):.0f}% median, {100 * min(found):.0f}% fewest | |")
+    return lines
+
+
+def parse_set(items: list[str]) -> SilhouetteOptions:
+    """SilhouetteOptions with ``NAME=VALUE`` fields replaced (``background.NAME`` for
+    the background model's, ``hierarchy.NAME`` for the tree's)."""
+    o = SilhouetteOptions()
+    top: dict[str, Any] = {}
+    sub: dict[str, dict[str, Any]] = {"background": {}, "hierarchy": {}}
+    for item in items:
+        name, _, text = item.partition("=")
+        try:
+            value: Any = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        if isinstance(value, list):
+            value = tuple(value)
+        head, _, rest = name.partition(".")
+        if rest:
+            sub[head][rest] = value
+        else:
+            top[name] = value
+    for head, fields in sub.items():
+        if fields:
+            top[head] = dataclasses.replace(getattr(o, head), **fields)
+    return dataclasses.replace(o, **top)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Render what is missing, track every capture of a half, print the tables."""
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--half", choices=("tune", "report"), default="report")
+    p.add_argument("--work", default="/tmp/bodyplay_silhouette_rooms",
+                   help="cache of rooms and captures (outside the repository)")
+    p.add_argument("--seconds", type=float, default=4.0)
+    p.add_argument("--clips-per-room", type=int, default=2)
+    p.add_argument("--rooms", default="", help="only these rooms (comma-separated)")
+    p.add_argument("--in", dest="same", default="",
+                   help="every capture of the half in this one room instead (a reference: "
+                        "the same clips in the room the tracker was tuned in, `--in brick`)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="a SilhouetteOptions field (background.NAME, hierarchy.NAME)")
+    p.add_argument("--list", action="store_true", help="print the plan of both halves")
+    p.add_argument("--json", help="also write the per-capture rows to this file")
+    args = p.parse_args(argv)
+    if args.list:
+        for half in ("tune", "report"):
+            for room, clip, start in plan(half, args.clips_per_room):
+                print(f"{half:6s} {room:10s} {short(clip)} from {start:g} s")
+        return 0
+    work = Path(args.work)
+    work.mkdir(parents=True, exist_ok=True)
+    options = parse_set(args.set)
+    only = set(args.rooms.split(",")) if args.rooms else None
+    todo = [t for t in plan(args.half, args.clips_per_room) if only is None or t[0] in only]
+    if args.same:  # the same clips, all in one room (rows keep their room's name)
+        todo = [(args.same, clip, start) for _, clip, start in todo]
+        names = [t[0] for t in plan(args.half, args.clips_per_room)
+                 if only is None or t[0] in only]
+    else:
+        names = [t[0] for t in todo]
+    print(f"# silhouette tracker in {len(set(names))} rooms"
+          + (f" (all of it in {args.same})" if args.same else "") + f", half {args.half}, "
+          f"{datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, {machine()}"
+          + (f", set {' '.join(args.set)}" if args.set else ""), flush=True)
+    tree = load_or_build_tree(options.hierarchy, progress=False)
+    rows = []
+    t0 = time.perf_counter()
+    done: dict[Path, dict[str, Any]] = {}  # with --in, a capture may come twice
+    for (room, clip, start), name in zip(todo, names, strict=True):
+        folder = capture(work, room, clip, start, args.seconds)
+        if folder not in done:
+            done[folder] = track(folder, options, tree)
+        r = dict(done[folder])
+        r.update(room=name if room == name else f"{name} (in {room})", clip=clip, start=start)
+        rows.append(r)
+        med = f"{r['median_cm']:5.1f}" if r["found"] > 0 else "    -"
+        print(f"  {r['room']:10s} {short(clip):22s} {med} / {r['mean_cm']:5.1f} cm  pose "
+              f"{100 * r['found']:3.0f}% from frame {r['first']:3d}  body {r['body']}  "
+              f"cpu {r['cpu_ms']:.1f} ms", flush=True)
+    print()
+    print("\n".join(summarize(rows)))
+    print(f"# {time.perf_counter() - t0:.0f} s")
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
