@@ -94,8 +94,6 @@ def test_shape_distance_needs_a_silhouette() -> None:
     assert window_at_distance(WindowGeometry(), _camera(), empty, empty, 0.5, 2.0) is None
 
 
-def test_options_reject_a_shape_start_without_frames_or_agreement() -> None:
+def test_options_reject_a_negative_shape_start() -> None:
     with pytest.raises(ConfigError, match="shape_frames"):
         SilhouetteOptions(shape_frames=-1)
-    with pytest.raises(ConfigError, match="shape_frames"):
-        SilhouetteOptions(shape_agree=0.0)

@@ -223,13 +223,13 @@ class SilhouetteOptions:
     pixels of segmentation at the feet read as a stance; the nine tune captures
     11.6 / 18.9 / 11.1 cm median / worst / mean of clip medians, 10.5 / 18.7 / 10.4
     with the cue and no dead band, 10.7 / 18.4 / 10.2 with 0.04 m; docs/silhouette.md);
-    ``shape_frames``: when there is no first-frame guess of the player (none found,
-    or dropped) and the feet are not seen, the floor distance is the median over
+    ``shape_frames``: when there is no first-frame guess of the player (GrabCut
+    found no figure, or the guess was dropped) and the silhouette does not stand on
+    the floor as a person (the arms of a player who stands still), the floor
+    distance is the median over
     that many frames of the distance at which the templates fit what moves best
-    (:mod:`.shapestart`; 0: off, wait for a whole person to move), used until a
-    floor point from the silhouette agrees with it within ``shape_agree`` (a share
-    of the distance); a floor point that disagrees before the first pose is taken
-    for a part of the body (the knees of a still player) and not used;
+    (:mod:`.shapestart`; 0: off, wait for a whole person to move), kept until a
+    floor point is seen;
     ``cache``: hierarchy cache folder.
     """
 
@@ -269,7 +269,6 @@ class SilhouetteOptions:
     stance_window: float = 0.5
     stance_deadband: float = 0.04
     shape_frames: int = 5
-    shape_agree: float = 0.25
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -280,9 +279,8 @@ class SilhouetteOptions:
             raise ConfigError("stance_weight must be in [0, 1] (0: the template's own stance)")
         if self.stance_window < 0 or self.stance_deadband < 0:
             raise ConfigError("stance_window must be >= 0 seconds and stance_deadband >= 0 m")
-        if self.shape_frames < 0 or self.shape_agree <= 0:
-            raise ConfigError("shape_frames must be >= 0 (0: no start from the shape) and "
-                              "shape_agree > 0")
+        if self.shape_frames < 0:
+            raise ConfigError("shape_frames must be >= 0 (0: no start from the shape)")
         if self.head_min_lever <= 0:
             raise ConfigError("head_min_lever must be > 0 metres")
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:

@@ -13,11 +13,11 @@ within ``stature_tolerance`` of the best median match are candidates and the one
 of smallest mean distance among them is kept (the distance alone favoured large
 presets, and differs by a few percent between them).
 
-When there is no first-frame guess of the player (GrabCut took a cup or a wall of
-posters with the player, or the guess was dropped) the floor point may come from
-the knees or the elbows of a player who stands still: until a floor point agrees
-with it, the floor distance is the one at which the templates fit what moves best
-(:mod:`.shapestart`, median over ``shape_frames`` frames).
+When there is no first-frame guess of the player (GrabCut took a cup with the
+player) and what moves is not a whole person (a player who moves only the arms:
+the ray through an elbow meets the floor metres away, or never), the floor
+distance is the one at which the templates fit what moves best (:mod:`.shapestart`,
+median over ``shape_frames`` frames), until a floor point is seen.
 
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
@@ -222,7 +222,8 @@ class SilhouetteTracker:
                     sil, win, floor_ok = moved, win2, True
         if (self.options.shape_frames and not self.background.guessing
                 and (self._started is None or self._shape_d is not None)):
-            # no first guess of the player to find the feet in: the distance from the shape
+            # no first guess of the player to find the feet in: when what moves does not
+            # stand on the floor as a person, the distance from the shape
             win, ok = self._from_shape(sil, win if ok and floor_ok else None)
             floor_ok = True
         if win is not None and floor_ok:
@@ -258,19 +259,23 @@ class SilhouetteTracker:
 
     def _from_shape(self, sil: Silhouette, seen: ObservedWindow | None
                     ) -> tuple[ObservedWindow | None, bool]:
-        """The window when the feet may not be seen (:mod:`.shapestart`): before the
-        first pose, the median over ``shape_frames`` frames of the distance the
-        templates fit best at; ``seen`` (the floor point of the silhouette's lowest
-        pixel, when plausible) is used when it agrees with it, else the distance
-        from the shape is kept until one does."""
+        """The window when no floor point is seen (:mod:`.shapestart`): ``seen`` (the
+        floor point of the silhouette's lowest pixel, when it makes a plausible
+        person) is used whenever there is one; else, before the first pose, the
+        median over ``shape_frames`` frames of the distance the templates fit best
+        at, kept until a floor point is seen."""
         o = self.options
+        if seen is not None:  # the silhouette stands on the floor: as before
+            self._shape_d = None
+            return seen, True
         if self._started is None:
             held = self.background.held
-            if held is None or not held.any():  # nothing still and unseen (an empty room
-                return seen, seen is not None  # learned before the player came): as is
             known = self.background.known
-            if not sil.foreground.any() or known is None or known.mean() < 0.25:
-                return None, False  # what the templates may not cover is not known yet
+            if (held is None or not held.any() or not sil.foreground.any() or known is None
+                    or known.mean() < 0.25):
+                # nothing still and unseen, or what the templates may not cover is not
+                # known yet
+                return None, False
             bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
             d = shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
                                sil.scale, 1.0, self.max_distance, beta=o.beta, level=1)
@@ -280,9 +285,6 @@ class SilhouetteTracker:
                 return None, False  # not sure yet where the player stands
             self._shape_d = float(np.median(self._shape_ds[-3 * o.shape_frames:]))
         assert self._shape_d is not None
-        if seen is not None and abs(seen.distance - self._shape_d) <= o.shape_agree * self._shape_d:
-            self._shape_d = None  # the feet are seen where the shape says
-            return seen, True
         win = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
                                  sil.scale, self._shape_d)
         return win, win is not None
