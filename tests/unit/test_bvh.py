@@ -125,6 +125,8 @@ def test_read_bvh_names_file_line_and_joint_for_a_short_frame(tmp_path: Path) ->
         (lambda t: t.replace("Yrotation Zrotation", "Yrotation Wobble"), r":9: .*'Wobble'"),
         (lambda t: t.replace("MOTION", "MOTON"), r":16: unexpected 'MOTON'"),
         (lambda t: t.replace("OFFSET 10 0 0", "OFFSET 10 zero 0"), r":8: expected a number"),
+        (lambda t: t.replace("OFFSET 10 0 0", "OFFSET 10 nan 0"), r":8: expected a finite"),
+        (lambda t: t.replace("OFFSET 5 0 0", "OFFSET inf 0 0"), r":12: expected a finite"),
         (lambda t: t.replace("Frame Time: 0.0333333", "Frame Time: 0"), r":18: 'Frame Time'"),
         (lambda t: t.replace("HIERARCHY", "HIERARCHIE"), r":1: a BVH file starts"),
         (lambda t: t.split("MOTION")[0] + "MOTION\nFrames: 0\nFrame Time: 0.1\n", r"no frames"),

@@ -243,9 +243,12 @@ class _Tokens:
     def number(self, what: str) -> float:
         tok, line = self.next(what)
         try:
-            return float(tok)
+            value = float(tok)
         except ValueError:
             raise self.error(line, f"expected a number for {what}, found {tok!r}") from None
+        if not np.isfinite(value):
+            raise self.error(line, f"expected a finite number for {what}, found {tok!r}")
+        return value
 
 
 def _read_text(path: Path) -> str:
