@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.shirt import NUM_COLORS
+from bodyplay.body.shirt import NUM_COLORS, PATCHES
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.anchors import Observed
 from bodyplay.trackers.colorshirt.colors import ColorModel
@@ -53,8 +53,28 @@ _REDUCE = 2
 _STILL_FRACTION = 0.01
 """Below this share of changed pixels (MOG2) the tracked shirt's box counts as still."""
 
+_WARMUP = 1
+"""Frames MOG2 learns before its mask is used: from the second frame on, what moved
+is foreground (with the torso's box, see :meth:`CameraWork.view`), so room clutter in
+shirt colours that never moves leaves the classification (tune half, two cameras,
+player in view: 10 frames 13.6 cm, 1 frame 8.1)."""
+
+_TORSO_PATCHES = np.array([p.id for p in PATCHES if p.bone in ("thorax", "lumbar")])
+"""The shirt's torso patches (front, back, flanks)."""
+
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
+
+
+def _image_box(cam: Camera, points: NDArray[np.float64]
+               ) -> tuple[int, int, int, int] | None:
+    """Pixel box of ``points`` projected into ``cam`` (None: none in front of it)."""
+    uv = cam.project(points, distort=False)
+    uv = uv[np.isfinite(uv).all(axis=1)]
+    if not len(uv):
+        return None
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    return int(lo[0]), int(lo[1]), int(np.ceil(hi[0])), int(np.ceil(hi[1]))
 
 
 class CameraWork:
@@ -86,7 +106,7 @@ class CameraWork:
         """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
         init = self.options.initial_white_balance
         states = [
-            CameraState(BackgroundMask(downscale=_REDUCE),
+            CameraState(BackgroundMask(downscale=_REDUCE, warmup=_WARMUP),
                         references=ReferenceIlluminations(self.options.reference_distance),
                         floor=FloorWatch(BackgroundPlate(downscale=_REDUCE)))
             for _ in self.cameras
@@ -122,10 +142,13 @@ class CameraWork:
                 st.still = st.still + 1 if moved < _STILL_FRACTION else 0
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
-        if mask is not None and st.last_box is not None:
-            # a person standing still fades into the background model: the region
-            # where the shirt was a frame ago always counts as foreground
-            bx0, by0, bx1, by1 = st.last_box
+        if mask is not None and st.last_box is not None and st.torso_box is not None:
+            # a person standing still fades into the background model: where the
+            # torso was a frame ago always counts as foreground. Only the torso: the
+            # whole shirt's box also kept the room around the arms, and a wrong
+            # first fit of an arm into a poster in shirt colours kept the poster
+            # (the start of the tune half's in-view clips, 20-40 cm off)
+            bx0, by0, bx1, by1 = st.torso_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
         room = st.room.foreground() if o.room_plate else None
         if room is not None:  # pixels the room plate knows as room are not the player
@@ -285,9 +308,12 @@ class CameraWork:
         box of the pose's shirt projected there (not the classified pixels' box,
         which clutter in shirt colors next to the player can grow)."""
         mesh = renderer.mesh
-        verts = renderer.vertices(q)[np.unique(mesh.faces[mesh.face_part > 0])]
+        every = renderer.vertices(q).astype(np.float64)
+        verts = every[np.unique(mesh.faces[mesh.face_part > 0])]
+        torso = every[np.unique(mesh.faces[np.isin(mesh.face_part, _TORSO_PATCHES)])]
         for cam, st in zip(self.cameras, states, strict=True):
-            uv = cam.project(verts.astype(np.float64), distort=False)
+            st.torso_box = _image_box(cam, torso)
+            uv = cam.project(verts, distort=False)
             uv = uv[np.isfinite(uv).all(axis=1)]  # none behind the camera
             if not len(uv):
                 st.gate = None

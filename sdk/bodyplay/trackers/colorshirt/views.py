@@ -64,6 +64,10 @@ class CameraState:
     W: NDArray[np.float64] | None = None
     references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
     last_box: tuple[int, int, int, int] | None = None
+    torso_box: tuple[int, int, int, int] | None = None
+    """Image box of the torso (its patches projected) in the last pose reported; it
+    stays foreground while ``last_box`` is held (a torso standing still fades from
+    the background model)."""
     last_fraction: float | None = None
     floor: FloorWatch = field(default_factory=FloorWatch)
     """The background plate and the feet on the floor (the one-camera depth cue)."""
