@@ -144,12 +144,22 @@ class CameraWork:
             st.floor.start(reduced, reduced=True)
         if mask is not None and st.last_box is not None and st.torso_box is not None:
             # a person standing still fades into the background model: where the
-            # torso was a frame ago always counts as foreground. Only the torso: the
-            # whole shirt's box also kept the room around the arms, and a wrong
-            # first fit of an arm into a poster in shirt colours kept the poster
-            # (the start of the tune half's in-view clips, 20-40 cm off)
+            # torso was a frame ago always counts as foreground, and the rest of the
+            # shirt's box only where the room was seen empty (there the room plate
+            # tells the room from a still arm). A player in view from the first
+            # frame: a first fit that put an arm into a poster in shirt colours
+            # kept the poster as foreground in the shirt's box frame after frame,
+            # and the arm stayed in it (tune half's in-view clips, first second
+            # 20-40 cm off)
             bx0, by0, bx1, by1 = st.torso_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
+            empty = st.room.empty_room
+            if empty is not None:
+                bx0, by0, bx1, by1 = st.last_box
+                sl = (slice(max(by0, 0), max(by1, 0)), slice(max(bx0, 0), max(bx1, 0)))
+                seen = cv2.resize(empty.astype(np.uint8), (image.shape[1], image.shape[0]),
+                                  interpolation=cv2.INTER_NEAREST) > 0
+                mask[sl] |= seen[sl]
         room = st.room.foreground() if o.room_plate else None
         if room is not None:  # pixels the room plate knows as room are not the player
             full = cv2.resize(room.astype(np.uint8), (image.shape[1], image.shape[0]),

@@ -58,6 +58,7 @@ class RoomPlate:
         self._run: NDArray[np.uint8] | None = None
         self._prev: NDArray[np.float32] | None = None
         self._small: NDArray[np.float32] | None = None
+        self._empty: NDArray[np.bool_] | None = None
         self._away: NDArray[np.bool_] | None = None
         """Pixels away from the player at the last :meth:`learn` (the light's gain is
         measured there)."""
@@ -68,6 +69,12 @@ class RoomPlate:
         if self._count is None:
             return None
         return self._count >= self.known_frames
+
+    @property
+    def empty_room(self) -> NDArray[np.bool_] | None:
+        """Pixels learned on frames before the player was seen (an empty-room start;
+        None if there were none)."""
+        return self._empty
 
     def known_fraction(self) -> float:
         """Share of the frame's pixels that are known."""
@@ -140,6 +147,8 @@ class RoomPlate:
         learn = away & (self._run >= self.still_frames)
         if not learn.any():
             return
+        if person is None:  # an empty-room frame (``everywhere``)
+            self._empty = learn if self._empty is None else self._empty | learn
         count = self._count.astype(np.float32)
         alpha = np.maximum(1.0 / (count + 1.0), self.rate)[..., None]
         upd = self._mean + alpha * (f - self._mean)
