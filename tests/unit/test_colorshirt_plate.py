@@ -74,3 +74,21 @@ def test_room_plate_follows_a_lamp_switched_off() -> None:
     plate.start(dim)
     fg = plate.foreground()
     assert fg is not None and fg.mean() < 0.05
+
+
+def test_room_plate_remembers_only_the_room_it_saw_before_the_player_appeared() -> None:
+    """Pixels learned on empty-room frames (``learn(None, everywhere=True)``) are the
+    empty room; pixels learned beside a player are not (the tracker keeps the
+    shirt's whole box as foreground only over the empty room)."""
+    plate, room = RoomPlate(), _room()
+    for _ in range(3):  # a start with the player in view: nothing seen empty
+        frame, person = _player(room, 30)
+        plate.start(frame)
+        plate.learn(person)
+    assert plate.empty_room is None
+    empty = RoomPlate()
+    for _ in range(5):
+        empty.start(room)
+        empty.learn(None, everywhere=True)
+    seen = empty.empty_room
+    assert seen is not None and seen.all()
