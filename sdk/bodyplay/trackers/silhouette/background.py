@@ -287,7 +287,8 @@ class BackgroundModel:
         self._prev = x
         if (self._resolving and self._frames % o.resolve_every == 0
                 and not self.known.all()):
-            self._resolve(image, x.shape[1::-1], differs)
+            self._resolve(image, x.shape[1::-1], differs,
+                          None if o.resolve_outside is None else protect)
         shown: NDArray[np.uint8] = differs
         if self.player is not None:
             # unknown pixels: the still ones the colours say are the player count, and
@@ -347,7 +348,8 @@ class BackgroundModel:
         self.player &= self._away < self.options.guess_expiry
 
     def _resolve(self, image: NDArray[np.uint8], size: tuple[int, int],
-                 differs: NDArray[np.uint8]) -> None:
+                 differs: NDArray[np.uint8],
+                 estimate: NDArray[np.bool_] | None = None) -> None:
         """Which unknown pixels are the player: GrabCut (OpenCV) seeded with the known
         background that shows no change (background) and what differs from it (the
         player over a learned background), on the crop around the unknown pixels;
@@ -371,6 +373,17 @@ class BackgroundModel:
         mask[un & prev] = cv2.GC_PR_FGD
         mask[un & (differs[y0:y1, x0:x1] > 0)] = cv2.GC_PR_FGD
         mask[fg_known[y0:y1, x0:x1]] = cv2.GC_FGD
+        reach = self.options.resolve_outside
+        if estimate is not None and reach is not None and estimate.shape == unknown.shape:
+            # where the tracker's estimate (dilated, and ``reach`` pixels more) does not
+            # reach, a still unknown pixel is not the player: sure background (the cat's
+            # eye or the cabinet beside the player; its colours then teach GrabCut what
+            # is not the clothes)
+            near = estimate.astype(np.uint8)
+            if reach:
+                near = cv2.dilate(near, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
+                                                                 (2 * reach + 1,) * 2))
+            mask[un & (near[y0:y1, x0:x1] == 0) & (differs[y0:y1, x0:x1] == 0)] = cv2.GC_BGD
         bgd = np.zeros((1, 65), np.float64)
         fgd = np.zeros((1, 65), np.float64)
         cv2.setRNGSeed(0)

@@ -39,7 +39,12 @@ class BackgroundOptions:
     ``guess_margin`` the pixels around the first guess that are not taken as known
     background from the first frame; ``guess_expiry``: still pixels resolved as the
     player that stay outside the tracker's estimate of the body for that many frames
-    are learned as background after all (0: never).
+    are learned as background after all (0: never); ``resolve_outside``: once the
+    tracker has an estimate, the still unknown pixels farther than this many
+    working-image pixels outside it (the estimate as passed, already dilated by the
+    tracker's ``protect_radius``) are sure background in each resolution, not only
+    after ``guess_expiry`` frames: furniture beside the player in the colours of the
+    clothes then teaches GrabCut what is not the player (None: off).
     """
 
     threshold: float = 4.0
@@ -59,6 +64,7 @@ class BackgroundOptions:
     guess_margin: int = 3
     resolve_iterations: int = 2
     guess_expiry: int = 30
+    resolve_outside: int | None = 10
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -66,6 +72,8 @@ class BackgroundOptions:
         if self.learn_after < 1 or self.relearn_after < self.learn_after:
             raise ConfigError("background learn_after must be at least 1 frame and "
                               "relearn_after at least learn_after")
+        if self.resolve_outside is not None and self.resolve_outside < 0:
+            raise ConfigError("background resolve_outside must be >= 0 pixels or None (off)")
         if self.resolve_every < 0 or self.guess_margin < 0 or self.guess_expiry < 0:
             raise ConfigError("background resolve_every, guess_margin and guess_expiry must "
                               "be >= 0")
