@@ -381,8 +381,8 @@ class BackgroundModel:
             # is not the clothes)
             near = estimate.astype(np.uint8)
             if reach:
-                near = cv2.dilate(near, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
-                                                                 (2 * reach + 1,) * 2))
+                near = np.asarray(cv2.dilate(near, cv2.getStructuringElement(
+                    cv2.MORPH_ELLIPSE, (2 * reach + 1,) * 2)), np.uint8)
             mask[un & (near[y0:y1, x0:x1] == 0) & (differs[y0:y1, x0:x1] == 0)] = cv2.GC_BGD
         bgd = np.zeros((1, 65), np.float64)
         fgd = np.zeros((1, 65), np.float64)
