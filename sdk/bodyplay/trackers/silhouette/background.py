@@ -46,6 +46,12 @@ the player (the limbs that moved out of the guess), the unknown pixels are
   that has moved away (a ghost) and are not foreground until something moves
   there.
 
+Once the tracker passes its estimate (``protect``), the still unknown pixels more
+than ``resolve_outside`` pixels beyond it are seeded as sure background: furniture
+beside the player in the colours of the clothes, which the first guess took along,
+then teaches GrabCut what is not the player (before, only ``guess_expiry`` frames
+off the estimate released it).
+
 Without a guess (``bootstrap`` off, or nothing found) or before the first
 resolution, unknown pixels are "don't care" to the distance and the guess only
 helps to find the floor point.
