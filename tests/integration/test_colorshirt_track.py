@@ -299,34 +299,3 @@ def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(
                     assert d["residual"] != pytest.approx(with_head)
                 checked += 1
         assert checked >= 10
-
-
-@pytest.mark.gl
-def test_one_camera_reads_the_players_stature_while_choosing_the_body(
-    tmp_path: Path, lead_in_capture: Path
-) -> None:
-    from bodyplay.body.joints import JOINT_INDEX
-    from bodyplay.capture.frames import FrameSet
-    from bodyplay.capture.sources import open_source
-    from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
-
-    opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
-                             body_selection_frames=12, arm_selection_frames=3,
-                             body_choice_max_stagger=float("inf"))
-    src = open_source(lead_in_capture)
-    assert src.cameras is not None
-    tracker = create_colorshirt_tracker(opts, src.cameras[:1])
-    selection = tracker._selection
-    assert selection is not None
-    with src:
-        for fs in src:
-            tracker.process(FrameSet(fs.frames[:1], fs.t, fs.index))
-    truth = read_pose_jsonl(lead_in_capture / "truth.jsonl")
-    head = truth.joints[truth.reported[:, 0], JOINT_INDEX["head"], 1]
-    stature = selection.stature()
-    assert stature is not None and len(selection.statures) >= 10
-    # the readings see the visible head's centre, ``head_offset`` (2 cm) above the joint
-    assert abs(stature - float(np.median(head))) < 0.04, (stature, np.median(head))
-    assert selection.chosen is not None and selection.fits_stature(selection.chosen)
-    assert selection.chosen not in {"xs", "s"}  # the actor is 1.75 m tall
-    assert tracker.stature == stature  # kept through the arm stage, for the summary

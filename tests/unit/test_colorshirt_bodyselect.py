@@ -25,7 +25,6 @@ from bodyplay.trackers.colorshirt.bodyselect import (
     ARM_SCALES,
     BodySelection,
     arm_variants,
-    upright_head_height,
     with_arm_scale,
 )
 from bodyplay.trackers.colorshirt.database import build_database
@@ -247,60 +246,6 @@ def test_arm_stage_compares_the_arm_scales_of_the_options(db) -> None:  # type: 
     assert tr._arm_stage_started
     chosen = tr._reference
     assert list(tr._bodies) == [f"{chosen}*0.76", f"{chosen}*0.80", chosen]
-
-
-def test_body_selection_keeps_a_preset_of_the_wrong_stature_from_winning() -> None:
-    heights = {"s": 1.52, "m_slim": 1.58, "m": 1.63}
-    sel = BodySelection(("s", "m_slim", "m"), frames=6, halvings=(0.5,), heights=heights,
-                        stature_tolerance=0.1, min_stature_readings=3)
-    for _ in range(6):
-        sel.add_stature(1.645)
-        sel.add({"s": 0.010, "m_slim": 0.012, "m": 0.013})  # s reprojects best
-    assert not sel.fits_stature("s") and sel.fits_stature("m_slim")
-    assert sel.chosen == "m_slim"
-
-
-def test_body_selection_stops_fitting_presets_of_the_wrong_stature_once_it_is_known() -> None:
-    heights = {"xs": 1.45, "s": 1.52, "m_slim": 1.58, "m": 1.63, "xl": 1.75}
-    sel = BodySelection(tuple(heights), frames=20, halvings=(0.5,), heights=heights,
-                        stature_tolerance=0.1, min_stature_readings=3)
-    for frame in range(3):
-        sel.add_stature(1.645)
-        sel.add({n: 0.01 for n in sel.active})
-        if frame < 2:
-            assert len(sel.active) == 5  # too few readings to judge
-    assert sel.active == ["m_slim", "m"]  # xs, s and xl cost no more fits
-
-
-def test_body_selection_ignores_the_stature_until_enough_readings_are_in() -> None:
-    sel = BodySelection(("s", "m"), frames=3, halvings=(), heights={"s": 1.52, "m": 1.63},
-                        stature_tolerance=0.05, min_stature_readings=5)
-    for _ in range(3):
-        sel.add_stature(1.64)
-        sel.add_stature(float("nan"))  # a frame without a reading counts for nothing
-        sel.add({"s": 0.010, "m": 0.013})
-    assert sel.stature() is None and sel.chosen == "s"
-
-
-def test_body_selection_falls_back_on_the_residual_when_no_preset_fits_the_stature() -> None:
-    sel = BodySelection(("s", "m"), frames=5, halvings=(), heights={"s": 1.52, "m": 1.63},
-                        stature_tolerance=0.05)
-    for _ in range(5):
-        sel.add_stature(1.95)  # taller than every candidate: the reading is no help
-        sel.add({"s": 0.013, "m": 0.010})
-    assert sel.stature() == pytest.approx(1.95) and sel.chosen == "m"
-
-
-@pytest.mark.parametrize("value", [0.0, -0.05, float("nan")])
-def test_stature_tolerance_option_rejects_non_positive_values(value: float) -> None:
-    with pytest.raises(ConfigError, match="stature_tolerance"):
-        ColorShirtOptions(stature_tolerance=value)
-
-
-def test_upright_head_height_grows_with_the_preset() -> None:
-    s, m = (upright_head_height(Skeleton.from_shape(n), 0.02) for n in ("s", "m"))
-    assert m == pytest.approx(1.63, abs=0.01)
-    assert s < m - 0.1
 
 
 def test_body_selection_halving_keeps_a_candidate_the_tolerance_could_still_choose() -> None:

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from bodyplay.capture.camera import Camera, look_at
-from bodyplay.trackers.colorshirt.cues import head_height
 from bodyplay.trackers.colorshirt.floor import (
     BackgroundPlate,
     FeetPoint,
@@ -15,7 +14,6 @@ from bodyplay.trackers.colorshirt.floor import (
     floor_depth,
     person_region,
 )
-from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
 from bodyplay.trackers.colorshirt.views import CameraState
 
@@ -247,27 +245,6 @@ def test_a_foot_split_by_the_threshold_still_reaches_down_to_its_toes() -> None:
     feet = _feet(_learned(room), player)
     assert len(feet) == 2
     assert all(f.v >= 416 for f in feet)  # the toes below the gap, not the instep
-
-
-def test_head_height_reads_the_head_over_the_feet_at_their_distance() -> None:
-    R, t = look_at((0.8, 1.2, 2.6), (0.0, 0.9, 0.0))
-    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
-    feet = [FeetPoint(*map(float, cam.project(np.array([[x, 0.0, 0.1]]))[0])) for x in (-0.1, 0.1)]
-    head = HeadPoint(*map(float, cam.project(np.array([[0.0, 1.64, 0.1]]))[0]), 12.0, 1.0)
-    assert head_height(cam, feet, head) == pytest.approx(1.64, abs=1e-6)
-    toward_camera = cam.center - np.array([0.0, 1.64, 0.1])
-    toward_camera[1] = 0.0
-    leaning = np.array([0.0, 1.64, 0.1]) + 0.1 * toward_camera / np.linalg.norm(toward_camera)
-    lean = HeadPoint(*map(float, cam.project(leaning[None])[0]), 12.0, 1.0)
-    assert head_height(cam, feet, lean) == pytest.approx(1.64 + 0.1 * 0.44 / 2.6, abs=0.005)
-
-
-def test_head_height_is_none_without_feet_on_the_floor() -> None:
-    R, t = look_at((0.0, 1.2, 2.6), (0.0, 0.9, 0.0))
-    cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
-    head = HeadPoint(320.0, 100.0, 12.0, 1.0)
-    assert head_height(cam, [], head) is None
-    assert head_height(cam, [FeetPoint(320.0, 50.0)], head) is None  # above the horizon
 
 
 def test_within_reach_rejects_a_root_that_crossed_the_room_since_the_last_pose() -> None:

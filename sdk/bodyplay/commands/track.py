@@ -210,9 +210,6 @@ def run(args: argparse.Namespace) -> int:
     if body is not None:
         requested = getattr(getattr(tracker, "options", None), "body", args.body)
         how = "chosen on the first frames" if requested == "auto" else "as requested"
-        stature = getattr(tracker, "stature", None)
-        if stature is not None:
-            how += f"; the player's head read {stature:.2f} m above the floor"
         print(f"body preset: {body} ({how})")
     options = getattr(tracker, "options", None)
     floor, heads, arms = used["floor_cue"], used["heads"], used["arms"]

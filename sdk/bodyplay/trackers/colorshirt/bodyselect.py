@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
@@ -24,7 +23,7 @@ from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors
 from bodyplay.trackers.colorshirt.prediction import PoseRenderer
 
 __all__ = ["ARM_SCALES", "BodyModel", "BodySelection", "arm_variants", "build_body_models",
-           "reprojection_residual", "upright_head_height", "with_arm_scale"]
+           "reprojection_residual", "with_arm_scale"]
 
 ARM_SCALES: tuple[float, ...] = (0.84, 0.88, 0.92, 0.96, 1.0)
 """Arm lengths (upper arm, forearm and hand together) tried after the preset is
@@ -80,13 +79,6 @@ def arm_variants(body: BodyModel, cameras: tuple[Camera, ...],
     return out
 
 
-def upright_head_height(skeleton: Skeleton, offset: float = 0.0) -> float:
-    """Height (m) of ``skeleton``'s head joint standing upright, plus ``offset`` (the
-    head cue's ``head_offset``: the visible head's centre lies that far above it)."""
-    joints = skeleton.joint_positions(skeleton.rest_pose())
-    return float(joints[JOINT_INDEX["head"], 1]) + offset
-
-
 def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
                           anchors: PatchAnchors, size_px: NDArray[np.float64]) -> float:
     """Mean distance between projected anchors and observed centroids at pose ``q``.
@@ -118,12 +110,6 @@ class BodySelection:
     that fits (a longer one fits as well by leaning in depth). Frames that cannot
     judge are :meth:`skip`-ped; after ``patience`` times ``frames`` of them, a
     fallback is chosen.
-
-    ``heights`` (metres, per candidate): where each candidate's visible head stands
-    when upright; with ``stature_tolerance`` and at least ``min_stature_readings``
-    readings of the player's own (:meth:`add_stature`), a candidate whose head
-    lies further than the tolerance from their median leaves the race on the next
-    frame (it costs no more fits), unless no candidate is within it.
     """
 
     names: tuple[str, ...]
@@ -138,10 +124,6 @@ class BodySelection:
     tolerance: float = 0.0
     patience: float = 2.0
     skipped: int = 0
-    heights: dict[str, float] = field(default_factory=dict)
-    stature_tolerance: float = float("inf")
-    min_stature_readings: int = 5
-    statures: list[float] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not self.active:
@@ -155,8 +137,6 @@ class BodySelection:
             if np.isfinite(r):
                 self.sums[n] = self.sums.get(n, 0.0) + r
                 self.counts[n] = self.counts.get(n, 0) + 1
-        if self.stature() is not None:
-            self.active = [n for n in self.active if self.fits_stature(n)] or self.active
         for f in self.halvings:
             if self.seen == max(1, round(f * self.frames)) and len(self.active) > 2:
                 ranked = sorted(self.active, key=self.mean)
@@ -172,25 +152,6 @@ class BodySelection:
         self.skipped += 1
         if self.chosen is None and self.skipped >= self.patience * self.frames:
             self.chosen = fallback
-
-    def add_stature(self, height: float) -> None:
-        """Record one frame's reading of the player's head height (metres)."""
-        if np.isfinite(height):
-            self.statures.append(float(height))
-
-    def stature(self) -> float | None:
-        """The median head height read so far (None: too few readings to judge)."""
-        if len(self.statures) < max(1, self.min_stature_readings):
-            return None
-        return float(np.median(self.statures))
-
-    def fits_stature(self, name: str) -> bool:
-        """Whether candidate ``name``'s head height is within the tolerance of the
-        player's (True while the stature is unknown or the candidate has none)."""
-        h, measured = self.heights.get(name), self.stature()
-        if h is None or measured is None:
-            return True
-        return abs(h - measured) <= self.stature_tolerance
 
     def mean(self, name: str) -> float:
         """Mean residual of a candidate so far (inf before it has any)."""

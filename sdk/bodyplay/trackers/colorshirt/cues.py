@@ -26,14 +26,14 @@ from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.shirt import NUM_PATCHES
 from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.capture.camera import Camera
-from bodyplay.trackers.colorshirt.floor import FeetPoint, floor_depth
+from bodyplay.trackers.colorshirt.floor import floor_depth
 from bodyplay.trackers.colorshirt.head import HEAD_RADIUS, HeadPoint, find_head
 from bodyplay.trackers.colorshirt.ik import PatchAnchors
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraState, CameraView
 
 __all__ = ["HEAD_PATCH", "FloorReading", "floor_reading", "head_anchors",
-           "head_from_cue", "head_height", "join_anchors", "within_reach"]
+           "head_from_cue", "join_anchors", "within_reach"]
 
 HEAD_PATCH = NUM_PATCHES + 1
 """The ``patch`` id of a head anchor (the shirt's patches are 1..20)."""
@@ -211,38 +211,3 @@ def join_anchors(a: PatchAnchors, b: PatchAnchors) -> PatchAnchors:
         return a
     return PatchAnchors(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in
                           ("node", "local", "camera", "target", "sigma", "patch")))
-
-
-def head_height(camera: Camera, feet: Sequence[FeetPoint], head: HeadPoint) -> float | None:
-    """How high above the floor the head seen at ``head`` is, standing over ``feet``.
-
-    The feet's floor points give the person's distance; the ray through the head's
-    centre meets the upright plane through their midpoint, facing the camera, at
-    the head's height. One camera thereby measures the player's stature, which its
-    shirt alone cannot (a small person near and a tall one far look alike). A head
-    10 cm nearer than the feet raises the reading by 10 cm times the head's height
-    above the camera over the distance (under 2 cm with the head 40 cm above a
-    camera 2.5 m away); on the benchmark's upright start-up frames the readings lay
-    within 1.5 cm of the truth, dim light included. None when no foot meets the
-    floor or the camera looks along the plane.
-    """
-    points = []
-    for f in feet:
-        z = floor_depth(camera, f)
-        if z is not None:
-            ray = np.linalg.solve(camera.K, np.array([f.u, f.v, 1.0]))
-            points.append(camera.R.T @ (ray * z) + camera.center)
-    if not points:
-        return None
-    foot = np.mean(points, axis=0)
-    forward = camera.R[2].copy()
-    forward[1] = 0.0
-    norm = float(np.linalg.norm(forward))
-    ray_w = camera.R.T @ np.linalg.solve(camera.K, np.array([head.u, head.v, 1.0]))
-    facing = float(ray_w @ forward)
-    if norm < 1e-6 or abs(facing) < 1e-6 * norm:
-        return None
-    s_ray = float((foot - camera.center) @ forward) / facing
-    if s_ray <= 0.0:
-        return None
-    return float((camera.center + s_ray * ray_w)[1])

@@ -86,12 +86,7 @@ class ColorShirtOptions:
       from a tall one far, the feet are its only measure of distance, and in a
       staggered stance they do not say where the pelvis is. After twice
       ``body_selection_frames`` frames that do not count, the reference preset
-      ``m`` is kept (``inf``: every frame counts). On those frames the head
-      found above the collar, seen from the feet's distance, also measures the
-      player's stature: once five readings are in, a preset whose upright head
-      stands further than ``stature_tolerance`` (m) from their median cannot win
-      while one within it can (``inf``: off). The shirt alone let a preset 14 cm
-      too short win under dim light by leaning towards the camera.
+      ``m`` is kept (``inf``: every frame counts).
     * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
       from where the feet meet the floor (beyond the paper; needs a background
       plate, learned on empty-room frames before the shirt first appears);
@@ -186,7 +181,6 @@ class ColorShirtOptions:
     arm_tolerance: float = 0.1
     arm_scales: tuple[float, ...] = ARM_SCALES
     body_choice_max_stagger: float = 0.15
-    stature_tolerance: float = 0.1
     floor_cue: bool = True
     floor_offset: float = 0.11
     floor_std: float = 0.05
@@ -296,9 +290,6 @@ class ColorShirtOptions:
         if not self.body_choice_max_stagger > 0.0:  # NaN fails too
             raise ConfigError("body_choice_max_stagger must be a positive distance in metres "
                               "(default 0.15; inf lets every one-camera frame judge the body)")
-        if not self.stature_tolerance > 0.0:
-            raise ConfigError("stature_tolerance must be a positive height in metres "
-                              "(default 0.1; inf lets presets of any height win)")
         if not (np.isfinite(self.room_margin) and 0.0 <= self.room_margin <= 1.0):
             raise ConfigError("room_margin must be within 0..1 of the silhouette's size "
                               "(default 0.1)")

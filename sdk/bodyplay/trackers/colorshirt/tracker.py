@@ -43,7 +43,6 @@ from bodyplay.trackers.colorshirt.bodyselect import (
     BodySelection,
     arm_variants,
     reprojection_residual,
-    upright_head_height,
 )
 from bodyplay.trackers.colorshirt.camerawork import CameraWork
 from bodyplay.trackers.colorshirt.colors import ColorModel
@@ -51,7 +50,6 @@ from bodyplay.trackers.colorshirt.cues import (
     FloorReading,
     floor_reading,
     head_anchors,
-    head_height,
     join_anchors,
     within_reach,
 )
@@ -151,16 +149,12 @@ class ColorShirtTracker:
         self._lone: int | None = None
         """The camera that alone sees the shirt this frame (None: none or several)."""
         self._selection: BodySelection | None = None
-        self._stature: float | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
         self._reference = "m"
         if self._bodies:
             self._selection = BodySelection(
-                tuple(self._bodies), self.options.body_selection_frames,
-                heights={n: upright_head_height(b.skeleton, self.options.head_offset)
-                         for n, b in self._bodies.items()},
-                stature_tolerance=self.options.stature_tolerance)
+                tuple(self._bodies), self.options.body_selection_frames)
             self._use(self._bodies.get(self._reference, next(iter(self._bodies.values()))))
         self.diagnostics: dict[str, object] = {}
         """Intermediate results of the last frame (blended pose, observed centroids),
@@ -177,13 +171,6 @@ class ColorShirtTracker:
     def body_name(self) -> str:
         """Name of the body preset in use (the reference ``m`` while choosing)."""
         return self.body.name
-
-    @property
-    def stature(self) -> float | None:
-        """The player's head height (m) that one camera read while choosing the body
-        (median of the start-up frames; None: not read, e.g. two cameras or no plate)."""
-        stage = self._selection
-        return self._stature if self._arm_stage_started or stage is None else stage.stature()
 
     # ---- the frame -------------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -335,8 +322,6 @@ class ColorShirtTracker:
         if not judging:
             sel.skip(self._reference)  # one view, no measure of distance: size unknown
         else:
-            if len(views) == 1 and fits:
-                self._read_stature(views[0].index, min(fits.values(), key=lambda f: f[0].residual))
             sel.add(residuals)
         if sel.chosen is not None:
             best = sel.chosen
@@ -361,17 +346,6 @@ class ColorShirtTracker:
         self.diagnostics = judged
         return fit
 
-    def _read_stature(self, index: int, fit: tuple[_Fit, dict[str, object]]) -> None:
-        """Record the lone camera's reading of the player's head height, from the head
-        the best-fitting candidate found and the feet this frame."""
-        assert self._selection is not None
-        heads = cast(list[tuple[int, HeadPoint]], fit[1].get("heads", []))
-        feet = self._cams[index].floor.last_feet
-        if heads and feet:
-            h = head_height(self.cameras[index], feet, heads[0][1])
-            if h is not None:
-                self._selection.add_stature(h)
-
     def _start_arm_selection(self) -> None:
         """Second start-up stage: once the preset is chosen, its arm-length variants
         (:data:`ARM_SCALES`, about 40 ms each to build) are compared like the presets
@@ -382,7 +356,6 @@ class ColorShirtTracker:
         if n <= 0 or sel is None or sel.chosen is None or self._arm_stage_started:
             return
         self._arm_stage_started = True
-        self._stature = sel.stature()
         variants = arm_variants(self._bodies[sel.chosen], self.cameras,
                                 tuple(self.options.arm_scales))
         previous = sel.previous.get(sel.chosen)
