@@ -120,6 +120,11 @@ def test_background_resolution_takes_still_pixels_beyond_the_estimate_for_backgr
         assert cabinet < 0.05
 
 
+def test_background_options_reject_a_negative_resolve_outside() -> None:
+    with pytest.raises(ConfigError, match="resolve_outside"):
+        BackgroundOptions(resolve_outside=-1)
+
+
 def test_background_without_a_first_guess_resolves_nothing() -> None:
     # no GrabCut guess of the player (here turned off): the pixels not seen to change
     # stay unknown ("don't care") instead of being labelled the player
