@@ -7,6 +7,7 @@ One file defines one gesture::
     description = "right arm swung up and lowered quickly"
     cooldown = 0.3                   # s after a performed gesture before it can start again
     timeout = 1.5                    # optional: s from start by which it must be performed
+    inhibits = ["other"]             # optional: gestures this one takes precedence over
 
     [[stage]]
     name = "up"
@@ -20,8 +21,9 @@ One file defines one gesture::
 
 A condition is ``feature(joint, ...) OP number`` with OP one of ``< <= > >=``; the
 features are listed in :data:`bodyplay.gestures.features.FEATURES`. Problems (bad
-TOML, unknown keys, unknown features or joints, wrong arity) raise
-:class:`~bodyplay.errors.ConfigError` naming the file and the key.
+TOML, unknown keys, unknown features or joints, wrong arity, an unknown gesture in
+``inhibits``, a cycle of inhibitions) raise :class:`~bodyplay.errors.ConfigError`
+naming the file and the key.
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ __all__ = [
     "load_gestures",
     "builtin_gesture_names",
     "parse_condition",
+    "check_gesture_set",
 ]
 
 _COND = re.compile(
@@ -97,7 +100,12 @@ class Stage:
 
 @dataclass(frozen=True)
 class GestureDefinition:
-    """A gesture: a named sequence of stages with a cooldown and an optional timeout."""
+    """A gesture: a named sequence of stages with a cooldown and an optional timeout.
+
+    ``inhibits`` names gestures this one takes precedence over (the recognizer
+    withholds their ``performed`` while this one is under way and cancels them when
+    it is performed; docs/gestures.md, "Precedence").
+    """
 
     name: str
     stages: tuple[Stage, ...]
@@ -105,6 +113,7 @@ class GestureDefinition:
     cooldown: float = 0.3
     timeout: float | None = None
     source: str = ""
+    inhibits: tuple[str, ...] = ()
 
 
 def parse_condition(text: str, where: str = "condition") -> Condition:
@@ -168,7 +177,8 @@ def parse_gesture(text: str, source: str = "<string>", default_name: str = "") -
     head = doc.get("gesture", {})
     if not isinstance(head, dict):
         raise ConfigError(f"{source}: [gesture] must be a table")
-    _check_keys(head, {"name", "description", "cooldown", "timeout"}, f"{source}: gesture")
+    _check_keys(head, {"name", "description", "cooldown", "timeout", "inhibits"},
+                f"{source}: gesture")
     name = head.get("name", default_name)
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
         raise ConfigError(f"{source}: gesture.name must be an identifier, got {name!r}")
@@ -177,6 +187,7 @@ def parse_gesture(text: str, source: str = "<string>", default_name: str = "") -
         raise ConfigError(f"{source}: gesture.description must be a string")
     cooldown = _number(head, "cooldown", f"{source}: gesture", 0.3)
     timeout = _number(head, "timeout", f"{source}: gesture", None, positive=True)
+    inhibits = _inhibits(head, name, source)
     raw_stages = doc.get("stage")
     if not isinstance(raw_stages, list) or not raw_stages:
         raise ConfigError(f"{source}: needs at least one [[stage]] with a 'when' list")
@@ -210,7 +221,63 @@ def parse_gesture(text: str, source: str = "<string>", default_name: str = "") -
         assert hold is not None and within is not None
         stages.append(Stage(sname, conds, hold, within, no_legs))
     assert cooldown is not None
-    return GestureDefinition(name, tuple(stages), desc, cooldown, timeout, source)
+    return GestureDefinition(name, tuple(stages), desc, cooldown, timeout, source, inhibits)
+
+
+def _inhibits(head: dict[str, Any], name: str, source: str) -> tuple[str, ...]:
+    """``gesture.inhibits``: a list of distinct gesture names, not the gesture itself."""
+    raw = head.get("inhibits", [])
+    where = f"{source}: gesture.inhibits"
+    if isinstance(raw, str):
+        raw = [raw]
+    if not isinstance(raw, list):
+        raise ConfigError(f"{where}: must be a list of gesture names, got {raw!r}")
+    for g in raw:
+        if not isinstance(g, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", g):
+            raise ConfigError(f"{where}: {g!r} is not a gesture name")
+        if g == name:
+            raise ConfigError(f"{where}: a gesture cannot inhibit itself ({g!r})")
+    if len(set(raw)) != len(raw):
+        raise ConfigError(f"{where}: names a gesture twice: {raw}")
+    return tuple(raw)
+
+
+def check_gesture_set(definitions: Iterable[GestureDefinition]) -> tuple[GestureDefinition, ...]:
+    """Check the gestures meant to run together; return them inhibitors first.
+
+    Every name in a definition's ``inhibits`` must be one of ``definitions`` or a
+    built-in gesture (a built-in that is not in the set is simply not there to
+    inhibit: ``double_hit`` alone still loads); inhibitions may not form a cycle
+    (``a`` inhibits ``b`` inhibits ``a``). The returned order puts every gesture after
+    all of those that inhibit it (stable otherwise), which is the order the recognizer
+    settles a frame's completions in. Raises :class:`ConfigError` naming the file.
+    """
+    defs = tuple(definitions)
+    names = {d.name: d for d in defs}
+    builtin = set(builtin_gesture_names())
+    for d in defs:
+        for g in d.inhibits:
+            if g not in names and g not in builtin:
+                raise ConfigError(
+                    f"{d.source or d.name}: gesture.inhibits: unknown gesture {g!r}; gestures "
+                    f"here: {', '.join(sorted(names))}; built-ins: {', '.join(sorted(builtin))}"
+                )
+    # Kahn's algorithm over the edges inhibitor -> inhibited within the set.
+    blockers = {d.name: {o.name for o in defs if d.name in o.inhibits} for d in defs}
+    order: list[GestureDefinition] = []
+    left = list(defs)
+    while left:
+        ready = [d for d in left if not blockers[d.name] - {o.name for o in order}]
+        if not ready:
+            cycle = sorted(d.name for d in left if blockers[d.name])
+            src = next(d.source or d.name for d in left if blockers[d.name])
+            raise ConfigError(
+                f"{src}: gesture.inhibits: the inhibitions among {', '.join(cycle)} form a "
+                "cycle; precedence must run one way (remove one of them)"
+            )
+        order.append(ready[0])
+        left.remove(ready[0])
+    return tuple(order)
 
 
 def builtin_gesture_names() -> tuple[str, ...]:
@@ -251,7 +318,8 @@ def load_gestures(
     """Load gesture definitions from files, folders or built-in names.
 
     Accepts a ``.toml`` path, a folder of them, a built-in name (``"crouch"``),
-    ``"builtin"`` for all built-ins, or a list of these. Duplicate names are an error.
+    ``"builtin"`` for all built-ins, or a list of these. Duplicate names, unknown names
+in ``inhibits`` and cycles of inhibitions are errors (:func:`check_gesture_set`).
     """
     items = (
         [path_or_builtin] if isinstance(path_or_builtin, str | Path) else list(path_or_builtin)
@@ -266,4 +334,5 @@ def load_gestures(
                 )
             seen[d.name] = d.source
             out.append(d)
+    check_gesture_set(out)
     return out

@@ -12,6 +12,15 @@ steps every gesture's machine:
   break before their hold time, when the next stage does not begin in time, or
   when the gesture's overall ``timeout`` passes.
 
+Precedence (``inhibits`` in a definition): a gesture whose last stage completes while
+a gesture that inhibits it is under way is *held* (progress 1, no event yet). Once
+every such inhibitor has ended, the frame settles it: ``performed`` if none of them
+was performed, ``canceled`` if one was. An inhibitor's ``performed`` cancels every
+gesture it inhibits that is under way or held, and they may not start again for the
+inhibitor's cooldown. So a subscriber to ``performed`` never sees a ``hit`` that was
+the right arm of a ``double_hit``; a held gesture's ``performed`` comes late (when
+its inhibitor gives up), and only then.
+
 Events are :class:`~bodyplay.events.types.GestureEvent` with ``t`` the frame time and
 ``emitted_t`` the given clock's time (or ``t`` without a clock).
 """
@@ -28,7 +37,7 @@ from numpy.typing import ArrayLike
 from bodyplay.errors import ConfigError
 from bodyplay.events.types import GestureEvent, GesturePhase
 from bodyplay.filters.base import JointState, as_joints, check_timestamp, lost_mask
-from bodyplay.gestures.definitions import GestureDefinition, load_gestures
+from bodyplay.gestures.definitions import GestureDefinition, check_gesture_set, load_gestures
 from bodyplay.gestures.features import (
     BodyCalibration,
     CalibrationOptions,
@@ -91,6 +100,11 @@ class _Machine:
     armed: bool = True
     cooldown_until: float = -np.inf
 
+    @property
+    def held(self) -> bool:
+        """Every stage completed, ``performed`` withheld while an inhibitor is under way."""
+        return self.stage >= len(self.gesture.stages)
+
     def progress(self, t: float) -> float:
         n = len(self.gesture.stages)
         if self.stage < 0:
@@ -120,6 +134,7 @@ class GestureRecognizer:
         if len(set(names)) != len(names):
             raise ConfigError(f"gesture names must be unique, got {names}")
         self.definitions = tuple(definitions)
+        self._settle_order = check_gesture_set(self.definitions)
         self.options = options if options is not None else GestureOptions()
         _validate(self.options)
         self.reset()
@@ -130,6 +145,16 @@ class GestureRecognizer:
         self._velocity = VelocityTracker(self.options.calibration.velocity_window)
         self._shift = VelocityTracker(self.options.calibration.shift_window)
         self._machines = [_Machine(d) for d in self.definitions]
+        by_name = {m.gesture.name: m for m in self._machines}
+        # Settled inhibitors first, so an inhibitor's `performed` cancels what it inhibits
+        # before that gets its turn.
+        self._settle = [by_name[d.name] for d in self._settle_order]
+        self._inhibitors = {m.gesture.name: [o for o in self._machines
+                                             if m.gesture.name in o.gesture.inhibits]
+                            for m in self._machines}
+        self._inhibited = {m.gesture.name: [by_name[g] for g in m.gesture.inhibits
+                                            if g in by_name]
+                           for m in self._machines}
         self._last_t: float | None = None
 
     @property
@@ -158,7 +183,20 @@ class GestureRecognizer:
         events: list[GestureEvent] = []
         for m in self._machines:
             self._step(m, t, frame, events)
+        self._settle_completed(t, events)
         return events
+
+    def _settle_completed(self, t: float, events: list[GestureEvent]) -> None:
+        """Emit ``performed`` for every completed gesture none of whose inhibitors is
+        under way; an inhibitor's ``performed`` cancels what it inhibits."""
+        for m in self._settle:
+            if not m.held or any(i.stage >= 0 for i in self._inhibitors[m.gesture.name]):
+                continue
+            self._end(m, t, "performed", events)
+            for v in self._inhibited[m.gesture.name]:
+                if v.stage >= 0:
+                    self._end(v, t, "canceled", events)
+                v.cooldown_until = max(v.cooldown_until, t + m.gesture.cooldown)
 
     # ---- the state machine ----------------------------------------------------------
     def _holds(self, m: _Machine, k: int, frame: FeatureFrame) -> bool:
@@ -197,6 +235,8 @@ class GestureRecognizer:
 
     def _step(self, m: _Machine, t: float, frame: FeatureFrame, events: list[GestureEvent]) -> None:
         g = m.gesture
+        if m.held:  # waits for _settle_completed
+            return
         if m.stage < 0:
             first = self._holds(m, 0, frame)
             if not first:
@@ -228,7 +268,6 @@ class GestureRecognizer:
             m.last_done_t = t
             m.holding_since = None
             m.stage += 1
-            if m.stage == len(g.stages):
-                self._end(m, t, "performed", events)
+            if m.held:  # performed (or canceled) by _settle_completed
                 return
 
