@@ -255,3 +255,47 @@ def test_within_reach_rejects_a_root_that_crossed_the_room_since_the_last_pose()
     assert within_reach(last, 1.1, np.array([0.4, 0.9, 0.0]), 2.0)  # 0.25 + 2 * 0.1 m
     assert not within_reach(last, 1.1, np.array([0.5, 0.9, 0.0]), 2.0)
     assert within_reach(last, 2.5, np.array([5.0, 0.9, 0.0]), 2.0)  # over a second ago
+
+
+def _room_plate_masks(feet_v: int, unknown_to: int) -> tuple[np.ndarray, np.ndarray]:
+    """Plate-resolution (foreground, known) of a player in view: the room plate knows
+    every pixel but those of the player's grown silhouette, which reaches down to
+    row ``unknown_to`` (full resolution); the feet end at ``feet_v``."""
+    h, w = 240, 320
+    x0, y0, x1, y1 = (c // 2 for c in SHIRT)
+    known = np.ones((h, w), bool)
+    known[y0 - 10: unknown_to // 2, x0 - 10: x1 + 10] = False  # the grown silhouette
+    fg = ~known  # unknown pixels may be the player
+    fg[y1: feet_v // 2, x0 + 3: x0 + 16] = True  # the legs, unlike the plate where known
+    fg[y1: feet_v // 2, x1 - 16: x1 - 3] = True
+    return fg, known
+
+
+def test_feet_from_the_room_plate_count_only_where_the_plate_knows_the_floor_under_them(
+) -> None:
+    # a player who stood still since the first frame: the floor around the feet was
+    # never uncovered, and the edge of the unknown silhouette is not a foot
+    fg, known = _room_plate_masks(feet_v=400, unknown_to=440)
+    assert feet_points(fg, SHIRT, 2, known) == ()
+    assert len(feet_points(fg, SHIRT, 2)) > 0  # without ``known`` that edge read as feet
+    # a player who walked onto floor the plate has seen: the feet are seen on it
+    fg, known = _room_plate_masks(feet_v=420, unknown_to=380)
+    feet = feet_points(fg, SHIRT, 2, known)
+    assert len(feet) == 2 and all(abs(f.v - 420) <= 2 for f in feet)
+
+
+def test_floor_watch_reads_the_feet_from_the_room_plate_without_an_empty_room() -> None:
+    room = _room()
+    state = CameraState(BackgroundMask(downscale=2), floor=FloorWatch(BackgroundPlate()))
+    assert state.floor.room is state.room
+    small = state.floor.plate.small(room)
+    for _ in range(10):  # the room around the player, learned while tracking
+        state.room.start(small)
+        state.room.learn(None, everywhere=True)
+    player = _person(room, feet_v=420)
+    state.room.start(state.floor.plate.small(player))
+    state.floor.start(player)
+    state.floor.shirt_at(SHIRT)  # the player in view from the first frame: no plate
+    assert not state.floor.plate.ready
+    feet = state.floor.feet()
+    assert len(feet) == 2 and all(abs(f.v - 420) <= 2 for f in feet)

@@ -14,8 +14,12 @@ per channel measured there. :func:`feet_points` takes the lowest foreground pixe
 of each foot of the blob below the shirt; :func:`floor_depth` turns them into a depth along the
 camera's axis.
 
-Without a plate (no empty-room frames yet) the cue is simply absent and the
-tracker falls back on the shirt's size.
+Without empty-room frames (the player in view from the first frame) the feet are
+read from the room plate (:class:`.plate.RoomPlate`), which learns the room from
+what the player uncovers: a foot counts only where the plate knows the floor
+under it, so a player who walks onto floor seen before tells the depth, and one
+who stands still where the room was never seen gives no reading (the tracker
+then falls back on the shirt's size, as without any plate).
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
+from bodyplay.trackers.colorshirt.plate import RoomPlate
 
 __all__ = [
     "BackgroundPlate", "FeetPoint", "FloorWatch", "feet_points", "floor_depth", "person_region",
@@ -177,13 +182,20 @@ def person_region(shirt: Box, width: int, height: int) -> Box:
     return (max(0, x0 - w), max(0, y0 - h), min(width, x1 + w), height)
 
 
-def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int) -> tuple[FeetPoint, ...]:
+def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int,
+                known: NDArray[np.bool_] | None = None) -> tuple[FeetPoint, ...]:
     """The lowest point of each foot of the blob the shirt belongs to (none, one or two).
 
     ``fg`` is a plate-resolution mask, ``shirt`` the shirt's box in full-resolution
     pixels. The feet are the runs of columns whose lowest blob pixel lies in the
     blob's lowest tenth; the two lowest runs count (a foot hidden behind the other
-    leaves one). Nothing is returned when the shirt's box holds little foreground
+    leaves one). With ``known`` (the pixels a :class:`.plate.RoomPlate` has learned,
+    whose ``fg`` counts unknown pixels as the player's), a foot counts only where
+    its lowest pixels are known (the room there was seen, so the foot is *seen* to
+    differ from it) and the pixel below each is known room: the foot's edge is
+    observed, not the edge of what the plate has not learned yet (the silhouette
+    grown around a still player, which read the feet 30-60 cm too near). Nothing
+    is returned when the shirt's box holds little foreground
     (the plate does not fit the scene), when the blob reaches the image's lower edge
     (feet out of view) or when nothing of it lies below the shirt (no legs).
     """
@@ -223,6 +235,13 @@ def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int) -> tuple[Feet
     out = []
     for a, b in runs[:2]:
         v = int(lowest[a: b + 1].max())
+        if known is not None:
+            xs = np.arange(a, b + 1)
+            ys = y0 + lowest[xs]
+            below = np.minimum(ys + 1, h - 1)
+            seen = known[ys, rx0 + xs] & known[below, rx0 + xs] & ~fg[below, rx0 + xs]
+            if (ys + 1 >= h).any() or seen.mean() < 0.5:
+                continue
         out.append(FeetPoint((rx0 + 0.5 * (a + b) + 0.5) * s, (y0 + v + 1.0) * s))
     return tuple(out)
 
@@ -259,6 +278,9 @@ class FloorWatch:
         self._feet: tuple[FeetPoint, ...] | None = None
         self._fg: NDArray[np.bool_] | None = None
         self._fg_done = False
+        self.room: RoomPlate | None = None
+        """The room learned from what the player uncovers: the feet's source while
+        the plate has seen no empty room."""
 
     def start(self, image: NDArray[np.uint8], reduced: bool = False) -> None:
         """A new frame (undistorted RGB, full resolution, or already at the plate's
@@ -333,8 +355,11 @@ class FloorWatch:
         if self._feet is None:
             self._feet = ()
             fg = self.foreground()
+            known = None
+            if fg is None and self.room is not None and self._shirt is not None:
+                fg, known = self.room.foreground(), self.room.known
             if fg is not None and self._shirt is not None:
-                self._feet = feet_points(fg, self._shirt, self.plate.downscale)
+                self._feet = feet_points(fg, self._shirt, self.plate.downscale, known)
         return self._feet
 
     @property

@@ -82,6 +82,9 @@ class CameraState:
     located: bool = False
     """Whether the histogram search found a shirt in this camera this frame."""
 
+    def __post_init__(self) -> None:
+        self.floor.room = self.room  # the feet's source until an empty room was seen
+
 
 @dataclass(eq=False)
 class CameraView:
