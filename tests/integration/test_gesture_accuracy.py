@@ -98,6 +98,11 @@ _ARMS_DOWN = {"l_shoulder": (0.0, 0.0, -1.35), "r_shoulder": (0.0, 0.0, 1.35)}
 _ARMS_OUT: dict[str, tuple[float, float, float]] = {}
 _ARMS_FOLDED = {"l_shoulder": (0.0, -1.0, -1.3), "l_elbow": (0.0, -2.4, 0.0),
                 "r_shoulder": (0.0, 1.0, 1.3), "r_elbow": (0.0, 2.4, 0.0)}
+# Level arms crossed in front of the chest, each hand reaching out past the other
+# shoulder: one camera's silhouette of arms spread (hands 1.2 torso apart).
+_ARMS_CROSSED = {"l_shoulder": (0.0, -2.7, 0.0), "r_shoulder": (0.0, 2.7, 0.0)}
+# Both arms straight out in front at shoulder height (hands a shoulder width apart).
+_ARMS_FORWARD = {"l_shoulder": (0.0, -1.57, 0.0), "r_shoulder": (0.0, 1.57, 0.0)}
 
 
 def _sequence(sk: Skeleton, keys: list[tuple[float, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
@@ -133,11 +138,12 @@ def _step(shape: str, side: int, size: float, duration: float, yaw: float = 0.0)
     return _sequence(sk, keys)
 
 
-def _transfigure(shape: str, pace: float, fold: bool = True, spread: bool = True):
+def _transfigure(shape: str, pace: float, fold: bool = True, spread: bool = True,
+                 arms_out: dict[str, tuple[float, float, float]] = _ARMS_OUT):
     sk = Skeleton.from_shape(shape)
     h = sk.pelvis_height
     stand = sk.pose(root=(0, h, 0), rotations=_ARMS_DOWN)
-    out = sk.pose(root=(0, h, 0), rotations=_ARMS_OUT)
+    out = sk.pose(root=(0, h, 0), rotations=arms_out)
     folded = sk.pose(root=(0, h, 0), rotations=_ARMS_FOLDED)
     keys = [(0.0, stand), (0.8, stand)]
     if spread:
@@ -170,6 +176,15 @@ def test_key_pose_transfigure_is_recognized_once_as_itself(shape, pace):
 def test_arms_spread_without_folding_or_folded_without_spreading_is_no_transfigure():
     assert "transfigure" not in _performed(*_transfigure("m", 1.0, fold=False))
     assert "transfigure" not in _performed(*_transfigure("m", 1.0, spread=False))
+
+
+def test_transfigure_accepts_level_arms_crossed_out_to_the_other_side_as_spread():
+    # What the silhouette tracker may report for arms spread (the same silhouette).
+    assert _performed(*_transfigure("m", 1.0, arms_out=_ARMS_CROSSED)) == ["transfigure"]
+
+
+def test_arms_straight_out_in_front_then_folded_is_no_transfigure():
+    assert "transfigure" not in _performed(*_transfigure("m", 1.0, arms_out=_ARMS_FORWARD))
 
 
 def test_a_step_forwards_is_no_side_step():
