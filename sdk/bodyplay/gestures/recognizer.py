@@ -159,7 +159,8 @@ class GestureRecognizer:
 
     @property
     def active(self) -> dict[str, float]:
-        """Gestures in progress and their progress 0..1 (after the last frame)."""
+        """Gestures in progress and their progress 0..1 (after the last frame); a gesture
+        held back by an inhibitor under way shows 1.0."""
         t = self._last_t or 0.0
         return {m.gesture.name: m.progress(t) for m in self._machines if m.stage >= 0}
 
