@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 from colorshirt_paint import clutter, webcam_rig
 
@@ -56,3 +57,26 @@ def test_the_background_model_masks_what_never_moved_from_the_second_frame() -> 
     mask = st.background.apply(second)
     assert mask is not None
     assert mask[230, 330] and not mask[50, 600]
+
+
+def test_the_floor_plate_learns_every_frame_before_the_first_pose_even_where_clutter_is_found(
+) -> None:
+    """An empty room full of colour: the histogram search finds shirt-like regions
+    that the colour test then rejects. The floor cue's plate must still learn those
+    frames (it learned only frames where nothing was found, and in such a room it
+    was never ready: no floor or head cue after an empty-room start)."""
+    work = _work(1)
+    st = work.new_states()[0]
+    room = clutter(480, 640, np.random.default_rng(3))
+    rng = np.random.default_rng(1)
+    for i in range(4):  # a poster of 20 muted colours: shirt-like, but not the shirt's
+        for j in range(5):
+            hsv = np.uint8([[[rng.uniform(0, 180), 90, rng.uniform(120, 230)]]])
+            room[150 + 30 * j: 180 + 30 * j, 260 + 30 * i: 290 + 30 * i] = cv2.cvtColor(
+                hsv, cv2.COLOR_HSV2RGB)[0, 0]
+    located = 0
+    for k in range(10):
+        assert work.view(0, st, room, k / 30.0, confirmed=False) is None
+        located += st.located
+    assert located > 0  # the search did take clutter for a shirt
+    assert st.floor.plate.ready

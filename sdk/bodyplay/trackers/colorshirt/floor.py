@@ -292,7 +292,8 @@ class FloorWatch:
         self._fg_done = False
 
     def no_shirt(self) -> None:
-        """No shirt in this frame: before the first shirt, the plate learns the room."""
+        """A frame before any pose was reported (whether or not a shirt-like region
+        was found in it): until the first shirt is confirmed, the plate learns it."""
         if self._small is not None and not self.seen_shirt:
             self.plate.learn(self._small)
 
@@ -301,13 +302,12 @@ class FloorWatch:
 
         ``confirmed``: whether the tracker has reported a pose yet. Until it has,
         a shirt-like region may be clutter of the room (clothes or a poster in
-        shirt colors), and the plate goes on learning the whole frame.
+        shirt colors), and the plate goes on learning the whole frame (the
+        tracker calls :meth:`no_shirt` on every such frame).
         """
         self._shirt = shirt
         if not confirmed and not self.seen_shirt:
-            if self._small is not None:
-                self.plate.learn(self._small)
-            return
+            return  # the plate learned the frame (:meth:`no_shirt`)
         self.seen_shirt = True
         if self._small is not None:
             self.plate.update_around(self._small, self._region_small())
