@@ -139,18 +139,22 @@ def _classify(x, mean, var, prev, still, wi, thr2, move2, differs, moved):  # ty
 
 @numba.njit(cache=True, nogil=True)
 def _learn(x, mean, var, still, known, differs, was_diff, protect, learn_after,  # type: ignore[no-untyped-def]  # pragma: no cover
-           relearn_after, rate, var0):
+           relearn_after, rate, var0, away, learn_away):
     h, w = still.shape
     for i in range(h):
         for j in range(w):
             if differs[i, j]:
                 was_diff[i, j] = True
             if protect[i, j]:
+                away[i, j] = 0
                 continue
+            if away[i, j] < 1_000_000:
+                away[i, j] += 1
             if not known[i, j] and not differs[i, j] and was_diff[i, j]:
                 known[i, j] = True  # back to its value after something passed: background
-            if (still[i, j] >= learn_after and not known[i, j]) or (
-                    differs[i, j] and still[i, j] >= relearn_after):
+            settled = away[i, j] >= learn_away  # still away from the player, not just now
+            if settled and ((still[i, j] >= learn_after and not known[i, j]) or (
+                    differs[i, j] and still[i, j] >= relearn_after)):
                 for c in range(3):
                     mean[i, j, c] = x[i, j, c]
                     var[i, j, c] = var0
@@ -223,10 +227,12 @@ class BackgroundModel:
         self.player: NDArray[np.bool_] | None = None
         self._ghost: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self._away: NDArray[np.int32] = np.zeros((0, 0), np.int32)
+        self._off: NDArray[np.int32] = np.zeros((0, 0), np.int32)
         self._resolving = False
         self._frames = 0
         self._stirred: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self.held: NDArray[np.bool_] | None = None
+        self.motion = 0.0
 
     @property
     def guessing(self) -> bool:
@@ -255,7 +261,8 @@ class BackgroundModel:
         return normalized_color(image)
 
     def apply(self, image: NDArray[np.uint8],
-              protect: NDArray[np.bool_] | None = None) -> Silhouette:
+              protect: NDArray[np.bool_] | None = None,
+              covered: NDArray[np.bool_] | None = None) -> Silhouette:
         """Segment one frame and update the model.
 
         ``protect`` (working resolution, True where the player is believed to be)
@@ -291,6 +298,9 @@ class BackgroundModel:
                   np.float32(o.intensity_weight**2), np.float32(o.threshold**2),
                   np.float32((2.5 * o.min_std) ** 2 * 3.0), differs, moved)
         self._prev = x
+        # what moved this frame, single noisy pixels dropped
+        stir = cv2.morphologyEx(moved, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)) > 0
+        self.motion = float(stir.mean())
         if (self._resolving and self._frames % o.resolve_every == 0
                 and not self.known.all()):
             self._resolve(image, x.shape[1::-1], differs,
@@ -313,8 +323,7 @@ class BackgroundModel:
             if self._frames < o.hold_guess:  # the first guess of the player waits a while
                 protect |= self.occupied
             if o.hold_below and self._frames < o.hold_guess:  # so does the still body
-                self._stirred |= cv2.morphologyEx(moved, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)
-                                                  ) > 0  # not single noisy pixels
+                self._stirred |= stir
                 self.held = _below(self._stirred, r) & ~self.known
                 protect |= self.held
             else:
@@ -329,9 +338,20 @@ class BackgroundModel:
             if given and o.guess_expiry:
                 self._expire(protect)
             protect = protect | (self.player & ~self.known)
+            if o.uncover_margin is not None and covered is not None and covered.shape == protect.shape:
+                # what the player uncovered (a ghost: the first frame's copy of the player,
+                # now the background behind it) is learned once still, unless the
+                # estimate's own silhouette covers it
+                near = covered.astype(np.uint8)
+                if o.uncover_margin:
+                    near = np.asarray(cv2.dilate(near, cv2.getStructuringElement(
+                        cv2.MORPH_ELLIPSE, (2 * o.uncover_margin + 1,) * 2)), np.uint8)
+                protect = protect & ~(self._ghost & ~self.known & (near == 0))
+        if self._off.shape != protect.shape:
+            self._off = np.zeros(protect.shape, np.int32)
         _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,
                np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
-               np.float32(o.min_std**2))
+               np.float32(o.min_std**2), self._off, o.learn_away)
         unknown = (~self.known & (fg == 0)).astype(np.uint8)
         if self.player is not None:  # resolved: the rest of the unknown is background
             unknown[:] = 0

@@ -65,6 +65,8 @@ class BackgroundOptions:
     resolve_iterations: int = 2
     guess_expiry: int = 30
     resolve_outside: int | None = 10
+    learn_away: int = 12
+    uncover_margin: int | None = 3
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -253,6 +255,8 @@ class SilhouetteOptions:
     transition_weight: float = 0.5
     uniform: float = 0.02
     select_frames: int = 45
+    select_motion: float = 0.002
+    select_wait: float = 3.0
     min_height: float = 0.9
     max_distance: float = 0.0
     min_person_px: float = 80.0

@@ -148,6 +148,7 @@ class SilhouetteTracker:
         self._body: str | None = names[0] if len(names) == 1 else None
         self._scores: dict[str, list[float]] = {b: [] for b in names}
         self._tops: dict[str, list[float]] = {b: [] for b in names}
+        self._moved = False
         self._last: _Last | None = None
         self._t: float | None = None
         self._bad = 0
@@ -180,8 +181,18 @@ class SilhouetteTracker:
         stages: dict[str, float] = {}
         tic = time.perf_counter()
         protect = self._last.protect if self._last is not None else None
-        sil = self.background.apply(image, protect)
+        covered = (self._last.template > 0 if self._last is not None
+                   and self._last.template is not None else None)
+        sil = self.background.apply(image, protect, covered)
         stages["background"] = time.perf_counter() - tic
+        if (self._body is None and not self._moved and self.options.select_motion
+                and self.background.motion >= self.options.select_motion):
+            # the player moves for the first time: the body is chosen from here on
+            # (until now the silhouette was only the first frame's colour guess)
+            self._moved = True
+            for b in self._scores:
+                self._scores[b].clear()
+                self._tops[b].clear()
         tic = time.perf_counter()
         keep_for = self.options.depth_window
         self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
@@ -365,7 +376,10 @@ class SilhouetteTracker:
                     self._tops[b].append(t + steps[b].shift[1] - top - self._shortfall(b))
         n = len(next(iter(self._scores.values())))
         best = self._best_body()
-        if n >= self.options.select_frames:
+        waited = (not self.options.select_motion or self._moved or (
+            self._started is not None and self._t is not None
+            and self._t - self._started >= self.options.select_wait))
+        if n >= self.options.select_frames and waited:
             self._body = best
             self._filters = {best: self._filters[best]}
             self._skeletons = {best: self._skeletons[best]}
