@@ -68,3 +68,30 @@ def test_automatic_body_choice_picks_the_actors_preset(synth_gl, tmp_path, three
         for fs in src:
             tracker.process(fs)
     assert tracker.body_name == body
+
+
+@pytest.mark.slow
+def test_body_choice_waits_for_the_player_to_move(synth_gl, tmp_path, three_body_tree):
+    # the player stands still in view for a second (the first frame repeated): the
+    # silhouette is only the first frame's colour segmentation, so the body is not
+    # chosen then, however many frames pass; it is chosen once the player has moved
+    from bodyplay.capture.frames import Frame, FrameSet
+
+    out = tmp_path / "cap"
+    assert main(["synth", "--clip", "131_01", "--frames", "45", "--body", "xs",
+                 "--out", str(out)]) == 0
+    src = open_source(out)
+    assert src.cameras is not None
+    tracker = create_silhouette_tracker(SilhouetteOptions(select_frames=10, select_wait=5.0),
+                                        src.cameras[:1], tree=three_body_tree)
+    with src:
+        frames = list(src)
+    first = frames[0].frames[0].image
+    for i in range(30):
+        tracker.process(FrameSet((Frame(first, i / 30, i),), i / 30, i))
+    assert tracker.body_name is None
+    for fs in frames[1:]:
+        f = fs.frames[0]
+        tracker.process(FrameSet((Frame(f.image, 1.0 + fs.t, 30 + fs.index),),
+                                 1.0 + fs.t, 30 + fs.index))
+    assert tracker.body_name == "xs"

@@ -125,6 +125,55 @@ def test_background_options_reject_a_negative_resolve_outside() -> None:
         BackgroundOptions(resolve_outside=-1)
 
 
+@pytest.mark.parametrize("away", [0, 12])
+def test_background_learns_a_change_only_once_the_estimate_has_stayed_off_it(
+        away: int) -> None:
+    # a hand held still for 100 frames under the tracker's estimate; the estimate
+    # then leaves it for one frame (a step): with ``learn_away`` the hand is not
+    # learned as background at once, it is still the player's next frame
+    room = _room(np.random.default_rng(4))
+    model = BackgroundModel(BackgroundOptions(learn_after=5, learn_away=away))
+    for _ in range(8):
+        model.apply(room)
+    img = room.copy()
+    img[200:260, 300:340] = (40, 60, 200)
+    protect = np.zeros((240, 320), bool)
+    protect[90:140, 140:180] = True
+    for _ in range(100):
+        model.apply(img, protect)
+    model.apply(img, np.zeros_like(protect))
+    sil = model.apply(img, protect)
+    hand = sil.foreground[102:128, 152:168].mean()
+    if away:
+        assert hand > 0.95
+    else:
+        assert hand < 0.05  # learned the frame the estimate left it
+
+
+def test_background_motion_is_zero_while_nothing_moves() -> None:
+    room = _room(np.random.default_rng(5))
+    model = BackgroundModel()
+    for _ in range(3):
+        model.apply(_with_player(room, 300))
+    assert model.motion == 0.0
+    model.apply(_with_player(room, 340))
+    assert model.motion > 0.002
+
+
+def test_background_options_reject_a_negative_learn_away() -> None:
+    with pytest.raises(ConfigError, match="learn_away"):
+        BackgroundOptions(learn_away=-1)
+
+
+def test_silhouette_options_reject_select_motion_outside_a_share() -> None:
+    from bodyplay.trackers.silhouette import SilhouetteOptions
+
+    with pytest.raises(ConfigError, match="select_motion"):
+        SilhouetteOptions(select_motion=1.5)
+    with pytest.raises(ConfigError, match="select_wait"):
+        SilhouetteOptions(select_wait=-1.0)
+
+
 def test_background_without_a_first_guess_resolves_nothing() -> None:
     # no GrabCut guess of the player (here turned off): the pixels not seen to change
     # stay unknown ("don't care") instead of being labelled the player

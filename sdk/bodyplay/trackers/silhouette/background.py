@@ -261,8 +261,7 @@ class BackgroundModel:
         return normalized_color(image)
 
     def apply(self, image: NDArray[np.uint8],
-              protect: NDArray[np.bool_] | None = None,
-              covered: NDArray[np.bool_] | None = None) -> Silhouette:
+              protect: NDArray[np.bool_] | None = None) -> Silhouette:
         """Segment one frame and update the model.
 
         ``protect`` (working resolution, True where the player is believed to be)
@@ -338,15 +337,6 @@ class BackgroundModel:
             if given and o.guess_expiry:
                 self._expire(protect)
             protect = protect | (self.player & ~self.known)
-            if o.uncover_margin is not None and covered is not None and covered.shape == protect.shape:
-                # what the player uncovered (a ghost: the first frame's copy of the player,
-                # now the background behind it) is learned once still, unless the
-                # estimate's own silhouette covers it
-                near = covered.astype(np.uint8)
-                if o.uncover_margin:
-                    near = np.asarray(cv2.dilate(near, cv2.getStructuringElement(
-                        cv2.MORPH_ELLIPSE, (2 * o.uncover_margin + 1,) * 2)), np.uint8)
-                protect = protect & ~(self._ghost & ~self.known & (near == 0))
         if self._off.shape != protect.shape:
             self._off = np.zeros(protect.shape, np.int32)
         _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,

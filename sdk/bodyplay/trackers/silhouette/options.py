@@ -44,7 +44,12 @@ class BackgroundOptions:
     working-image pixels outside it (the estimate as passed, already dilated by the
     tracker's ``protect_radius``) are sure background in each resolution, not only
     after ``guess_expiry`` frames: furniture beside the player in the colours of the
-    clothes then teaches GrabCut what is not the player (None: off).
+    clothes then teaches GrabCut what is not the player (None: off);
+    ``learn_away``: a pixel is learned (rules above, ``learn_after`` and
+    ``relearn_after``) only once it has also been outside the tracker's estimate for
+    this many frames in a row, not the first frame the estimate leaves it (a hand
+    held still under the estimate, which a step then moves away for a frame, was
+    learned as background; 0: as before).
     """
 
     threshold: float = 4.0
@@ -66,7 +71,6 @@ class BackgroundOptions:
     guess_expiry: int = 30
     resolve_outside: int | None = 10
     learn_away: int = 12
-    uncover_margin: int | None = 3
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -79,6 +83,8 @@ class BackgroundOptions:
         if self.resolve_every < 0 or self.guess_margin < 0 or self.guess_expiry < 0:
             raise ConfigError("background resolve_every, guess_margin and guess_expiry must "
                               "be >= 0")
+        if self.learn_away < 0:
+            raise ConfigError("background learn_away must be >= 0 frames (0: off)")
         if self.working_size < 60:
             raise ConfigError("background working_size must be at least 60 pixels")
 
@@ -174,7 +180,11 @@ class SilhouetteOptions:
     """Options of the silhouette tracker (see docs/silhouette.md).
 
     ``body``: a body preset or ``"auto"`` (chosen on the first ``select_frames``
-    frames with a person); ``sigma``: likelihood scale per level relative to that
+    frames with a person once the player has moved: ``select_motion``, the share of
+    the background model's working image that must change in one frame, 0: count
+    from the first frame; a player who stands still until ``select_wait`` seconds
+    after the start is measured still: until something moves, the silhouette is only
+    the first frame's colour segmentation); ``sigma``: likelihood scale per level relative to that
     level's clustering threshold; ``keep``: posterior share (of the best node)
     below which a subtree is pruned, ``max_expand`` the most nodes expanded per
     level, ``explore`` how many best-fitting nodes are expanded whatever their
@@ -320,5 +330,8 @@ class SilhouetteOptions:
                               f"> 0, got {self.beta}")
         if not 0 <= self.protect_radius < 1:
             raise ConfigError("protect_radius must be a share of the image height in [0, 1)")
+        if not 0 <= self.select_motion < 1 or self.select_wait < 0:
+            raise ConfigError("select_motion must be a share of the image in [0, 1) and "
+                              "select_wait >= 0 seconds")
         if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:
             raise ConfigError("select_frames >= 1, lost_after >= 0 and smooth in [0, 1)")

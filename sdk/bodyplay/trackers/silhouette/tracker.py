@@ -181,9 +181,7 @@ class SilhouetteTracker:
         stages: dict[str, float] = {}
         tic = time.perf_counter()
         protect = self._last.protect if self._last is not None else None
-        covered = (self._last.template > 0 if self._last is not None
-                   and self._last.template is not None else None)
-        sil = self.background.apply(image, protect, covered)
+        sil = self.background.apply(image, protect)
         stages["background"] = time.perf_counter() - tic
         if (self._body is None and not self._moved and self.options.select_motion
                 and self.background.motion >= self.options.select_motion):
