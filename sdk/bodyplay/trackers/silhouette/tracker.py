@@ -5,8 +5,10 @@ point G and the window (:mod:`.window`) -> distance transforms at the three leve
 (:mod:`.distance`) -> tree-based Bayesian filter over the shape hierarchy
 (:mod:`.treefilter`) -> the MAP leaf's pose, placed at G and turned by the line of
 sight. The estimated body, dilated, keeps the background model from learning the
-player. Body size: the first ``select_frames`` frames with a person run a filter
-per body preset; each frame, the head top of each preset's chosen template (the
+player. Body size: the first ``select_frames`` frames with a person, counted from
+the first frame the player moves (``select_motion``; before, the silhouette is only
+the first frame's colour segmentation; ``select_wait`` s for a player who stays
+still), run a filter per body preset; each frame, the head top of each preset's chosen template (the
 highest template row in the window's middle columns, less the mesh's shortfall
 against the preset's stature) is compared with the observed one: the presets
 within ``stature_tolerance`` of the best median match are candidates and the one
