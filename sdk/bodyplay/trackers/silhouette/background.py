@@ -155,9 +155,9 @@ def _learn(x, mean, var, still, known, differs, was_diff, protect, learn_after, 
                 away[i, j] += 1
             if not known[i, j] and not differs[i, j] and was_diff[i, j]:
                 known[i, j] = True  # back to its value after something passed: background
-            settled = away[i, j] >= learn_away  # still away from the player, not just now
-            if settled and ((still[i, j] >= learn_after and not known[i, j]) or (
-                    differs[i, j] and still[i, j] >= relearn_after)):
+            if (still[i, j] >= learn_after and not known[i, j]) or (
+                    differs[i, j] and still[i, j] >= relearn_after
+                    and away[i, j] >= learn_away):  # away from the player, not just now
                 for c in range(3):
                     mean[i, j, c] = x[i, j, c]
                     var[i, j, c] = var0
