@@ -18,13 +18,12 @@ learn from. The model is a running one:
   player (a "ghost") is forgotten;
 * an unknown pixel that differed from its model and shows the model's value again,
   away from the player, is known (something passed in front of it);
-* a pixel is learned by the two rules above only once the estimate has stayed off
-  it for ``learn_away`` frames in a row (the estimate lags a step: a hand or foot
-  held still under it was learned the frame the step moved it away);
 * known background pixels adapt with rate ``rate`` (slow light changes); a known
   pixel that differs from its model is something in front of the background (the
   player standing still, most often) and is learned only after ``relearn_after``
-  still frames (a moved chair, a light switched on).
+  still frames (a moved chair, a light switched on), once the estimate has stayed
+  off it for ``learn_away`` frames in a row (the estimate lags a step: a foot held
+  still under it was learned the frame the step moved it away).
 
 Each frame gives three sets: foreground (differs from its model), known background
 and unknown (still, never confirmed). The distance of :mod:`.distance` treats

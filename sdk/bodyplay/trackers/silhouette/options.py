@@ -45,11 +45,11 @@ class BackgroundOptions:
     tracker's ``protect_radius``) are sure background in each resolution, not only
     after ``guess_expiry`` frames: furniture beside the player in the colours of the
     clothes then teaches GrabCut what is not the player (None: off);
-    ``learn_away``: a pixel is learned (rules above, ``learn_after`` and
-    ``relearn_after``) only once it has also been outside the tracker's estimate for
-    this many frames in a row, not the first frame the estimate leaves it (a hand
-    held still under the estimate, which a step then moves away for a frame, was
-    learned as background; 0: as before).
+    ``learn_away``: a known pixel that differs is relearned (``relearn_after``) only
+    once it has also been outside the tracker's estimate for this many frames in a
+    row, not the first frame the estimate leaves it (a foot held still under the
+    estimate for 3 s was learned as background the frame a step moved the estimate
+    away; 0: as before).
     """
 
     threshold: float = 4.0
