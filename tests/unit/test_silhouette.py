@@ -421,6 +421,37 @@ def test_filter_prunes_subtrees_and_finds_a_template_shown_to_it(
     assert f.posterior is not None and f.posterior.sum() == pytest.approx(1.0)
 
 
+def test_transition_frames_predict_where_a_training_motion_goes_two_frames_on(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+    from bodyplay.trackers.silhouette.treefilter import TreeFilter
+
+    tree = silhouette_tree
+    nxt: dict[int, set[int]] = {}
+    for a, b in zip(tree.trans_src.tolist(), tree.trans_dst.tolist(), strict=True):
+        nxt.setdefault(a, set()).add(b)
+    src, two = next((a, c) for a, bs in nxt.items() for b in bs for c in nxt.get(b, ())
+                    if c != a and c not in bs)
+    prior = {}
+    for frames in (1, 3):
+        filt = TreeFilter(tree, tree.bodies["m"], SilhouetteOptions(
+            transition_frames=frames, transition_weight=1.0, uniform=1e-9))
+        filt.posterior = np.zeros(tree.num_leaves)
+        filt.posterior[src] = 1.0
+        p = filt.predict()
+        assert p.sum() == pytest.approx(1.0)
+        prior[frames] = float(p[two])
+    assert prior[1] < 1e-6 < prior[3]  # one frame's histogram cannot reach it; three can
+
+
+def test_options_reject_transition_frames_that_are_not_1_to_10() -> None:
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+
+    for bad in (0, 11, 2.5):
+        with pytest.raises(ConfigError, match="transition_frames"):
+            SilhouetteOptions(transition_frames=bad)  # type: ignore[arg-type]
+
+
 def test_cache_is_rebuilt_when_its_version_changes(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.trackers.silhouette import hierarchy
 

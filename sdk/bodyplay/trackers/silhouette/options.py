@@ -192,11 +192,15 @@ class SilhouetteOptions:
     point, (x, y) pixels each way (a level-1 pixel is 3.6 cm); ``occlusion_m``:
     eq. 14's m; ``transition_weight``: share of the
     prediction from the training transition histograms (the rest from the
-    first-order Gaussian model, eq. 13-14); ``uniform``: prior mass spread over all
-    leaves (recovery after failure); ``lost_after``: seconds without a person
-    before every joint is reported lost (before, the prediction is reported
-    ``inferred``); ``min_height``/``max_distance``: a silhouette shorter, or a floor
-    point farther from the camera (m), is not a person (the automatic start);
+    first-order Gaussian model, eq. 13-14); ``transition_frames``: how many frames
+    ahead the histogram reaches (the prediction averages its 1..n-frame
+    transitions, so a filter that missed a frame of a fast motion, a hit's swing
+    under motion blur, still predicts where the motion goes; 1 is the paper's);
+    ``uniform``: prior mass spread over all leaves (recovery after failure);
+    ``lost_after``: seconds without a person before every joint is reported lost
+    (before, the prediction is reported ``inferred``);
+    ``min_height``/``max_distance``: a silhouette shorter, or a floor point farther
+    from the camera (m), is not a person (the automatic start);
     ``max_distance`` 0 (the default) takes it from the calibration: the distance at
     which a person 1.7 m tall is ``min_person_px`` pixels tall in the background
     model's working image (about 6 m for a 640x480 webcam of 60 degrees, 13 m for
@@ -263,6 +267,7 @@ class SilhouetteOptions:
     explore: int = 3
     occlusion_m: float = 5.0
     transition_weight: float = 0.5
+    transition_frames: int = 1
     uniform: float = 0.02
     select_frames: int = 45
     select_motion: float = 0.002
@@ -310,6 +315,10 @@ class SilhouetteOptions:
                               "arm_margin must be >= 0")
         if self.sigma <= 0 or self.occlusion_m < 1:
             raise ConfigError("sigma must be > 0 and occlusion_m >= 1")
+        if not isinstance(self.transition_frames, int) or not 1 <= self.transition_frames <= 10:
+            raise ConfigError(f"transition_frames must be a whole number of frames in 1..10 "
+                              f"(1: the paper's one-frame histogram), got "
+                              f"{self.transition_frames!r}")
         if not 0 <= self.transition_weight <= 1 or not 0 < self.uniform < 1:
             raise ConfigError("transition_weight must be in 0..1 and uniform in (0, 1)")
         if min(self.shift_search) < 0:

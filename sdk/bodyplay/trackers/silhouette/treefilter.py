@@ -71,6 +71,12 @@ class TreeFilter:
         T = csr_matrix((vals, (rows, cols)), shape=(n, n))
         norm = np.asarray(T.sum(axis=1)).ravel()
         self._trans = csr_matrix(T.multiply(1.0 / norm[:, None]))
+        if options.transition_frames > 1:  # the 1..n-frame transitions, averaged
+            one, step, total = self._trans, self._trans, self._trans
+            for _ in range(options.transition_frames - 1):
+                step = csr_matrix(step @ one)
+                total = total + step
+            self._trans = csr_matrix(total / options.transition_frames)
         # the start: facing the camera is likelier (the paper's initialization pose)
         lh, rh = tree.leaf_joints[:, 11], tree.leaf_joints[:, 14]
         across = lh - rh
