@@ -209,6 +209,17 @@ def test_webcam_that_cannot_open_fails_clearly() -> None:
             WebcamSource(99)  # the real OpenCV backend, no such device here
 
 
+def test_open_source_reads_webcam_and_webcam_colon_index_as_a_webcam() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(CaptureError, match="cannot open webcam 98"):
+            open_source("webcam:98")  # the real OpenCV backend, no such device here
+        with pytest.raises(CaptureError, match="cannot open webcam 97"):
+            open_source(" WebCam:97 ")
+    with pytest.raises(CaptureError, match="must be a number, as in webcam:1"):
+        open_source("webcam:front")
+
+
 def test_open_source_picks_the_source_by_what_it_is_given(tmp_path: Path) -> None:
     make_capture(tmp_path / "cap", {"cam0": 2})
     assert isinstance(open_source(tmp_path / "cap"), CaptureFolderSource)

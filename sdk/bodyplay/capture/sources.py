@@ -525,20 +525,29 @@ def open_source(
 ) -> FrameSource:
     """Open the source ``spec`` names: a capture folder, video, image folder or webcam.
 
-    * an ``int`` (or a string of digits): the webcam with that index;
+    * an ``int`` (or a string of digits): the webcam with that index; ``"webcam"``
+      is webcam 0 and ``"webcam:N"`` webcam N (a path of that name, if it exists,
+      wins);
     * a folder with ``calib.json``: :class:`CaptureFolderSource`;
     * a folder of images: :class:`ImageFolderSource` at ``fps`` (default 30);
     * a video file: :class:`VideoFileSource`.
     """
     if isinstance(spec, int) or (isinstance(spec, str) and spec.strip().isdigit()):
         return WebcamSource(int(spec), fps=fps or 30.0, camera=camera)
+    if isinstance(spec, str) and not Path(spec).exists():
+        name, _, index = spec.strip().lower().partition(":")
+        if name == "webcam":
+            if index and not index.strip().isdigit():
+                raise CaptureError(f"{spec!r}: the webcam's index must be a number, as in "
+                                   "webcam:1")
+            return WebcamSource(int(index or 0), fps=fps or 30.0, camera=camera)
     if not isinstance(spec, str | Path):
         raise CaptureError(f"cannot open a source from {spec!r}; pass a path or a webcam index")
     path = Path(spec)
     if not path.exists():
         raise CaptureError(
             f"{path}: no such file or folder; pass a capture folder, a video, an image folder "
-            "or a webcam index"
+            "or a webcam (its index, or webcam / webcam:N)"
         )
     if path.is_dir():
         if (path / "calib.json").exists():

@@ -30,7 +30,8 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("--tracker", default="colorshirt", help="tracker name (default colorshirt)")
     p.add_argument("--input", required=True,
-                   help="capture folder with calib.json, or a video / webcam index with --calib")
+                   help="capture folder with calib.json, or a video / webcam (0, webcam, "
+                   "webcam:N) with --calib")
     p.add_argument("--calib", help="calib.json whose first camera a video or webcam input uses")
     p.add_argument("--out", required=True, help="poses.jsonl to write")
     p.add_argument("--cameras", type=int, help="use only the first N cameras")
