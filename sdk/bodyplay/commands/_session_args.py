@@ -22,7 +22,8 @@ def add_session_arguments(p: argparse.ArgumentParser) -> None:
     """Add --clip / --input / --tracker / --fps / --gestures / --filter / --upper-body."""
     src = p.add_argument_group("input (one of)")
     src.add_argument("--clip", help="BVH file or built-in clip name, fed as poses (no tracker)")
-    src.add_argument("--input", metavar="DIR", help="capture folder, video, or webcam (index, webcam or webcam:N)")
+    src.add_argument("--input", metavar="DIR",
+                     help="capture folder, video, or webcam (index, webcam or webcam:N)")
     p.add_argument("--tracker", help="tracker plugin for --input (e.g. colorshirt)")
     p.add_argument("--fps", type=float, default=None,
                    help="resample --clip to this frame rate (default: the clip's)")
