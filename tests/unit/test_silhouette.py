@@ -452,6 +452,65 @@ def test_options_reject_transition_frames_that_are_not_1_to_10() -> None:
             SilhouetteOptions(transition_frames=bad)  # type: ignore[arg-type]
 
 
+def _shown(body, leaf: int) -> tuple[object, ...]:  # type: ignore[no-untyped-def]
+    """The distance maps of leaf ``leaf``'s own template, at the three levels."""
+    import cv2
+
+    shown = body.runs[2].masks(np.array([leaf]))[0]
+    return tuple(
+        distance_maps(np.asarray(cv2.resize(shown.astype(np.float32), (w, h),
+                                            interpolation=cv2.INTER_AREA) >= 0.5, np.uint8))
+        for w, h in ((60, 80), (120, 160), (240, 320)))
+
+
+def test_fit_prior_lets_a_pose_the_prediction_cannot_reach_win_when_it_fits_clearly_better(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.distance import score_runs_shifted
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+    from bodyplay.trackers.silhouette.treefilter import TreeFilter
+
+    tree = silhouette_tree
+    body = tree.bodies["m"]
+    n = tree.num_leaves
+    shown_leaf = n // 3
+    maps = _shown(body, shown_leaf)
+    zero = np.zeros(n, np.int64)
+    d = score_runs_shifted(maps[2], body.runs[2], np.arange(n, dtype=np.int64), zero, zero)
+    # the filter holds a leaf that fits a little worse and whose prediction gives the
+    # shown leaf (almost) nothing
+    def held_gives(a: int) -> float:
+        f = TreeFilter(tree, body, SilhouetteOptions(uniform=1e-6))
+        f.posterior = np.zeros(n)
+        f.posterior[a] = 1.0
+        return float(f.predict()[shown_leaf])
+
+    held = next(int(a) for a in np.argsort(d) if d[a] >= 0.02 and held_gives(int(a)) < 1e-4)
+    # a likelihood 4 nats better for the shown leaf: less than the prior's ratio
+    sigma = float(d[held]) / np.sqrt(8.0) / tree.options.thresholds[2]
+    leaf, post, prior = {}, {}, np.zeros(n)
+    for share in (0.0, 0.3):
+        f = TreeFilter(tree, body, SilhouetteOptions(uniform=1e-6, sigma=sigma, explore=8,
+                                                     fit_prior=share))
+        f.posterior = np.zeros(n)
+        f.posterior[held] = 1.0
+        prior = f.predict()
+        step = f.step(maps)  # type: ignore[arg-type]
+        leaf[share], post[share] = step.leaf, float(f.posterior[step.leaf])
+        assert f.posterior.sum() == pytest.approx(1.0)
+    assert d[leaf[0.0]] > 0.8 * d[held]  # the prediction wins: a pose near the held one
+    # the evidence wins: a pose that fits several times better, the prediction gave ~0
+    assert d[leaf[0.3]] < 0.25 * d[held] and prior[leaf[0.3]] < 1e-4 and post[0.3] > 0.2
+
+
+def test_options_reject_a_fit_prior_outside_0_to_1() -> None:
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+
+    for bad in (-0.1, 1.0, 2.0):
+        with pytest.raises(ConfigError, match="fit_prior"):
+            SilhouetteOptions(fit_prior=bad)
+    assert SilhouetteOptions().fit_prior == 0.0  # the paper's prediction alone by default
+
+
 def test_cache_is_rebuilt_when_its_version_changes(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.trackers.silhouette import hierarchy
 

@@ -197,6 +197,11 @@ class SilhouetteOptions:
     transitions, so a filter that missed a frame of a fast motion, a hit's swing
     under motion blur, still predicts where the motion goes; 1 is the paper's);
     ``uniform``: prior mass spread over all leaves (recovery after failure);
+    ``fit_prior``: share of the prior given to the leaves scored at the finest
+    level in proportion to their likelihood this frame (an observation-driven
+    proposal, as in the boosted particle filter: a pose the prediction cannot
+    reach, a thin arm swung up while the filter still holds it down, wins when it
+    fits clearly better; 0, the default, is the paper's prediction alone);
     ``lost_after``: seconds without a person before every joint is reported lost
     (before, the prediction is reported ``inferred``);
     ``min_height``/``max_distance``: a silhouette shorter, or a floor point farther
@@ -269,6 +274,7 @@ class SilhouetteOptions:
     transition_weight: float = 0.5
     transition_frames: int = 1
     uniform: float = 0.02
+    fit_prior: float = 0.0
     select_frames: int = 45
     select_motion: float = 0.002
     select_wait: float = 3.0
@@ -321,6 +327,9 @@ class SilhouetteOptions:
                               f"{self.transition_frames!r}")
         if not 0 <= self.transition_weight <= 1 or not 0 < self.uniform < 1:
             raise ConfigError("transition_weight must be in 0..1 and uniform in (0, 1)")
+        if not 0 <= self.fit_prior < 1:
+            raise ConfigError(f"fit_prior must be a share of the prior in [0, 1) (0: the "
+                              f"prediction alone), got {self.fit_prior!r}")
         if min(self.shift_search) < 0:
             raise ConfigError("shift_search must be non-negative pixel counts")
         if not 0 < self.keep < 1 or min(self.max_expand) < 1:

@@ -156,6 +156,10 @@ class TreeFilter:
                 loglik = under.copy()
             else:
                 loglik[scored] = under[scored]
+            if lv == 2 and o.fit_prior > 0:  # the observation-driven share of the prior
+                fit = np.zeros(n_leaf)
+                fit[expand] = np.exp(ll) / np.exp(ll).sum()
+                prior = (1.0 - o.fit_prior) * prior + o.fit_prior * fit
             node_prior = np.bincount(anc[lv], weights=prior, minlength=len(tree.node_pose[lv]))
             post = np.log(np.maximum(node_prior[expand], 1e-300)) + ll
             if lv == 2:
