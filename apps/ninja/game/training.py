@@ -138,11 +138,17 @@ def silhouette_options(folder: Path | None = None) -> Any:
     1.00 -> 0.50); ``transition_frames`` 3 (the prediction reaches three frames
     along the training motion, so the filter follows a hit's swing on a thin arm
     that it lost a frame of: hit recall on the first 16 tune scripts 13 -> 16,
-    transfigure 15 either way)."""
+    transfigure 15 either way); ``fit_prior`` 0.05 with ``shift_search`` (1, 1) (a
+    share of the prior for the leaves that fit best this frame, and a vertical
+    search of the template's place: a thin player's arm swung over the head lost to
+    the arms-down leaf's prior, and the body preset a few centimetres taller than
+    the player fits the raised arm only a couple of pixels lower; tune half 32:
+    hit recall 0.97 -> 1.00, transfigure 0.91 -> 0.97, docs/ninja.md)."""
     from bodyplay.motion import list_builtin_clips
     from bodyplay.trackers.silhouette.options import HierarchyOptions, SilhouetteOptions
 
     clips = tuple(list_builtin_clips()) + (str(ninja_training_clip(folder)),)
     return SilhouetteOptions(hierarchy=HierarchyOptions(clips=clips, clamp=False,
                                                         membership=("both", "both", "both")),
-                             explore=24, sigma=0.35, arm_candidates=0, transition_frames=3)
+                             explore=24, sigma=0.35, arm_candidates=0, transition_frames=3,
+                             fit_prior=0.05, shift_search=(1, 1))
