@@ -452,11 +452,12 @@ def test_options_reject_transition_frames_that_are_not_1_to_10() -> None:
             SilhouetteOptions(transition_frames=bad)  # type: ignore[arg-type]
 
 
-def _shown(body, leaf: int) -> tuple[object, ...]:  # type: ignore[no-untyped-def]
-    """The distance maps of leaf ``leaf``'s own template, at the three levels."""
+def _shown(body, leaf: int, down: int = 0) -> tuple[object, ...]:  # type: ignore[no-untyped-def]
+    """The distance maps of leaf ``leaf``'s own template (moved ``down`` level-3 pixels),
+    at the three levels."""
     import cv2
 
-    shown = body.runs[2].masks(np.array([leaf]))[0]
+    shown = np.roll(body.runs[2].masks(np.array([leaf]))[0], down, axis=0)
     return tuple(
         distance_maps(np.asarray(cv2.resize(shown.astype(np.float32), (w, h),
                                             interpolation=cv2.INTER_AREA) >= 0.5, np.uint8))
@@ -500,6 +501,28 @@ def test_fit_prior_lets_a_pose_the_prediction_cannot_reach_win_when_it_fits_clea
     assert d[leaf[0.0]] > 0.8 * d[held]  # the prediction wins: a pose near the held one
     # the evidence wins: a pose that fits several times better, the prediction gave ~0
     assert d[leaf[0.3]] < 0.25 * d[held] and prior[leaf[0.3]] < 1e-4 and post[0.3] > 0.2
+
+
+def test_filter_searches_the_template_vertically_only_while_allowed(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    # a player shorter than the body preset: the template fits a few pixels lower than
+    # the floor puts it; the tracker allows that only once the preset is chosen
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+    from bodyplay.trackers.silhouette.treefilter import TreeFilter
+
+    tree = silhouette_tree
+    body = tree.bodies["m"]
+    maps = _shown(body, tree.num_leaves // 2, down=3)
+    steps = {}
+    for vertical in (False, True):
+        f = TreeFilter(tree, body, SilhouetteOptions(shift_search=(1, 1)))
+        f.vertical = vertical
+        for _ in range(3):
+            steps[vertical] = f.step(maps)  # type: ignore[arg-type]
+    assert steps[False].evaluations[0] == tree.level_sizes[0] * 3  # x only
+    assert steps[True].evaluations[0] == tree.level_sizes[0] * 9
+    assert steps[False].shift[1] == 0 and steps[True].shift[1] > 0
+    assert steps[True].distance < 0.5 * steps[False].distance
 
 
 def test_options_reject_a_fit_prior_outside_0_to_1() -> None:

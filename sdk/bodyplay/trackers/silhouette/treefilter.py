@@ -11,7 +11,11 @@ Prediction (eq. 2, 5): the prior of a leaf mixes
   motion, multiplied by m (eq. 14, m = 5) for parts the previous leaf's template
   shows occluded (no pixel assigned to them), so an occluded limb can be found
   anywhere when it reappears,
-* a small uniform share over all leaves (recovery after a failure; the start).
+* a small uniform share over all leaves (recovery after a failure; the start),
+* optionally (``fit_prior``, an addition to the paper) a share given, once the
+  finest level is scored, to the scored leaves in proportion to their likelihood
+  (an observation-driven proposal: a pose the prediction cannot reach wins when
+  it fits clearly better).
 
 Update (eq. 1) coarse to fine: every level-1 node is scored against the observed
 silhouette at 80x60, at every position of a small grid around the floor point
@@ -169,9 +173,9 @@ class TreeFilter:
             else:
                 loglik[scored] = under[scored]
             if lv == 2 and o.fit_prior > 0:  # the observation-driven share of the prior
-                fit = np.zeros(n_leaf)
-                fit[expand] = np.exp(ll) / np.exp(ll).sum()
-                prior = (1.0 - o.fit_prior) * prior + o.fit_prior * fit
+                seen = np.zeros(n_leaf)
+                seen[expand] = np.exp(ll) / np.exp(ll).sum()
+                prior = (1.0 - o.fit_prior) * prior + o.fit_prior * seen
             node_prior = np.bincount(anc[lv], weights=prior, minlength=len(tree.node_pose[lv]))
             post = np.log(np.maximum(node_prior[expand], 1e-300)) + ll
             if lv == 2:
