@@ -42,7 +42,9 @@ figure (the ten others relative to the pelvis) is printed beside it.
 
 Results of each run are appended to ``--results`` (JSONL) and reused by later
 invocations with the same ``--tag`` (``--fresh`` recomputes), so an interrupted run
-resumes where it stopped.
+resumes where it stopped. Each row keeps, per scored frame with a pose, its number
+from the start, the eleven joints' errors (cm) and how many cameras' pixels counted
+(``per_frame``): ``colorshirt_decompose.py`` splits the error by cause from them.
 """
 
 from __future__ import annotations
@@ -357,6 +359,7 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
     cams = src.cameras[: setting.cameras]
     tracker = create_colorshirt_tracker(options, cams, database=db)
     errs, aligned, ms, cpu, depth, calib = [], [], [], [], [], []
+    per_frame: list[list[float]] = []  # for colorshirt_decompose.py
     frames = found = 0
     with src:
         for fs in src:
@@ -373,7 +376,11 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
             if r.found:
                 found += 1
                 t = truth.joints[fs.index][:11]
-                errs.append(float(np.linalg.norm(r.joints[:11] - t, axis=1).mean()))
+                joint = np.linalg.norm(r.joints[:11] - t, axis=1)
+                errs.append(float(joint.mean()))
+                used = r.extras.get("cameras_used")
+                per_frame.append([frames - 1, *(round(100 * float(e), 2) for e in joint),
+                                  len(used) if isinstance(used, list) else setting.cameras])
                 rel = (r.joints[:11] - r.joints[0]) - (t - t[0])  # the root aligned
                 aligned.append(float(np.linalg.norm(rel[1:], axis=1).mean()))
                 c = cams[0]
@@ -394,7 +401,8 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
             "depth_within_2std": float(np.mean(calib)) if calib else float("nan"),
             "root_depth_bias_cm": float(100 * np.mean(depth)) if depth else float("nan"),
             "root_depth_abs_cm": float(100 * np.mean(np.abs(depth))) if depth else float("nan"),
-            "body": tracker.body_name}
+            "body": tracker.body_name,
+            "per_frame": per_frame}
 
 
 def room_kind(row: dict[str, Any]) -> str:
