@@ -503,10 +503,10 @@ def test_fit_prior_lets_a_pose_the_prediction_cannot_reach_win_when_it_fits_clea
     assert d[leaf[0.3]] < 0.25 * d[held] and prior[leaf[0.3]] < 1e-4 and post[0.3] > 0.2
 
 
-def test_filter_searches_the_template_vertically_only_while_allowed(
+def test_filter_searches_the_template_vertically_when_asked(
         silhouette_tree) -> None:  # type: ignore[no-untyped-def]
     # a player shorter than the body preset: the template fits a few pixels lower than
-    # the floor puts it; the tracker allows that only once the preset is chosen
+    # the floor puts it
     from bodyplay.trackers.silhouette.options import SilhouetteOptions
     from bodyplay.trackers.silhouette.treefilter import TreeFilter
 
@@ -514,15 +514,14 @@ def test_filter_searches_the_template_vertically_only_while_allowed(
     body = tree.bodies["m"]
     maps = _shown(body, tree.num_leaves // 2, down=3)
     steps = {}
-    for vertical in (False, True):
-        f = TreeFilter(tree, body, SilhouetteOptions(shift_search=(1, 1)))
-        f.vertical = vertical
+    for y in (0, 1):
+        f = TreeFilter(tree, body, SilhouetteOptions(shift_search=(1, y)))
         for _ in range(3):
-            steps[vertical] = f.step(maps)  # type: ignore[arg-type]
-    assert steps[False].evaluations[0] == tree.level_sizes[0] * 3  # x only
-    assert steps[True].evaluations[0] == tree.level_sizes[0] * 9
-    assert steps[False].shift[1] == 0 and steps[True].shift[1] > 0
-    assert steps[True].distance < 0.5 * steps[False].distance
+            steps[y] = f.step(maps)  # type: ignore[arg-type]
+    assert steps[0].evaluations[0] == tree.level_sizes[0] * 3  # x only
+    assert steps[1].evaluations[0] == tree.level_sizes[0] * 9
+    assert steps[0].shift[1] == 0 and steps[1].shift[1] > 0
+    assert steps[1].distance < 0.5 * steps[0].distance
 
 
 def test_options_reject_a_fit_prior_outside_0_to_1() -> None:

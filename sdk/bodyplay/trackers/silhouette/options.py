@@ -189,9 +189,8 @@ class SilhouetteOptions:
     below which a subtree is pruned, ``max_expand`` the most nodes expanded per
     level, ``explore`` how many best-fitting nodes are expanded whatever their
     prior; ``shift_search``: the level-1 grid of positions tried around the floor
-    point, (x, y) pixels each way (a level-1 pixel is 3.6 cm; y > 0 lets a body
-    preset taller than the player stand a little lower, and is not used while the
-    preset is being chosen, whose stature it would hide); ``occlusion_m``:
+    point, (x, y) pixels each way (a level-1 pixel is 3.6 cm; y > 0 also lets a body
+    preset taller than the player stand a little lower); ``occlusion_m``:
     eq. 14's m; ``transition_weight``: share of the
     prediction from the training transition histograms (the rest from the
     first-order Gaussian model, eq. 13-14); ``transition_frames``: how many frames

@@ -148,8 +148,6 @@ class SilhouetteTracker:
         self._filters = {b: TreeFilter(self.tree, self.tree.bodies[b], self.options)
                          for b in names}
         self._body: str | None = names[0] if len(names) == 1 else None
-        for f in self._filters.values():  # the presets are compared standing on the floor
-            f.vertical = self._body is not None
         self._scores: dict[str, list[float]] = {b: [] for b in names}
         self._tops: dict[str, list[float]] = {b: [] for b in names}
         self._moved = False
@@ -384,7 +382,6 @@ class SilhouetteTracker:
         if n >= self.options.select_frames and waited:
             self._body = best
             self._filters = {best: self._filters[best]}
-            self._filters[best].vertical = True
             self._skeletons = {best: self._skeletons[best]}
         return steps[best]
 

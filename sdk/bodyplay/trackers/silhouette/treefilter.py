@@ -90,22 +90,10 @@ class TreeFilter:
         self._init = init / init.sum()
         self.posterior: NDArray[np.float64] | None = None
         r = options.shift_search
-        self._grid0_all = np.array([(x, y) for y in range(-r[1], r[1] + 1)
-                                    for x in range(-r[0], r[0] + 1)], np.int64)
-        self._grid_all = np.array([(x, 0) for x in (-1, 0, 1)]
-                                  + ([(0, -1), (0, 1)] if r[1] else []), np.int64)
-        self.vertical = True
-        """Whether the template's place is also searched vertically (``shift_search``'s
-        y; the tracker turns it off while it chooses the body preset, whose stature
-        a vertical search would hide)."""
-
-    @property
-    def _grid0(self) -> NDArray[np.int64]:
-        return self._grid0_all if self.vertical else self._grid0_all[self._grid0_all[:, 1] == 0]
-
-    @property
-    def _grid(self) -> NDArray[np.int64]:
-        return self._grid_all if self.vertical else self._grid_all[self._grid_all[:, 1] == 0]
+        self._grid0 = np.array([(x, y) for y in range(-r[1], r[1] + 1)
+                                for x in range(-r[0], r[0] + 1)], np.int64)
+        self._grid = np.array([(x, 0) for x in (-1, 0, 1)] + ([(0, -1), (0, 1)] if r[1] else []),
+                              np.int64)
 
     def reset(self) -> None:
         """Forget the posterior (the next step starts from the initial prior)."""
