@@ -253,7 +253,8 @@ def test_option_overrides_reject_unknown_names_and_bad_values(item: str, message
 
 
 @pytest.mark.parametrize("name", ["wb_smoothing", "blob_fraction", "blob_attach",
-                                  "min_color_fraction", "min_patch_fraction"])
+                                  "sleeve_attach", "min_color_fraction",
+                                  "min_patch_fraction"])
 def test_options_reject_fractions_outside_zero_to_one(name: str) -> None:
     with pytest.raises(ConfigError, match=f"{name} must be a fraction"):
         ColorShirtOptions(**{name: 1.5})

@@ -7,7 +7,7 @@ import pytest
 
 from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids
 
-RED, ORANGE, CYAN, PURPLE = 1, 2, 6, 8
+RED, ORANGE, YELLOW, CYAN, BLUE, PURPLE = 1, 2, 3, 6, 7, 8
 
 
 def _torso(ids: np.ndarray) -> None:
@@ -84,6 +84,64 @@ def test_lone_forearm_next_to_the_shirt_is_kept_in_its_sleeve_color() -> None:
     ids[40:60, 29:35] = PURPLE
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
     assert np.count_nonzero(out == PURPLE) == 120
+
+
+def _forearms_over_the_head(ids: np.ndarray, left: int, right: int) -> None:
+    """Both forearms raised together, crossed over the head: one blob in two colors
+    at rows 4..11, 7 px above the torso (the head between them)."""
+    ids[4:12, 50:60] = left
+    ids[4:12, 60:70] = right
+
+
+def test_both_forearms_over_the_head_are_kept_within_the_sleeve_reach() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    _forearms_over_the_head(ids, BLUE, PURPLE)
+    # 7 px is beyond the attach reach (10% of the 49 px shirt: 4 px) ...
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
+    assert not np.any(out[:18])
+    # ... and within the sleeve reach (20%: 9 px)
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert np.count_nonzero(out == BLUE) == 80
+    assert np.count_nonzero(out == PURPLE) == 80
+
+
+def test_sleeve_reach_keeps_only_blobs_in_two_sleeve_colors() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    _forearms_over_the_head(ids, RED, YELLOW)  # torso colors there: not an arm
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:18])
+    ids[:18] = 0
+    ids[4:12, 55:65] = PURPLE                 # one sleeve color alone: not kept that far
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:18])
+
+
+def test_sleeve_reach_keeps_only_blobs_over_the_shirt() -> None:
+    # the same two sleeve colors 7 px above the torso but beside its columns: a
+    # poster by the player's head, not forearms over it
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[4:12, 82:92] = BLUE
+    ids[4:12, 92:102] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:18])
+    # and below the shirt's top (beside the torso) it is no forearm over the head
+    ids[:18] = 0
+    ids[30:40, 28:32] = BLUE              # 8 px left of the torso
+    ids[40:50, 28:32] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:, :38])
+
+
+def test_sleeve_colored_poster_beyond_the_sleeve_reach_is_dropped() -> None:
+    ids = np.zeros((100, 120), np.uint8)
+    _torso(ids)
+    ids[85:95, 100:105] = CYAN            # 15 px below the shirt
+    ids[85:95, 105:110] = PURPLE
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[75:, 90:])
 
 
 def test_prior_penalty_slope_is_the_papers_under_a_mild_balance_and_grows_with_its_gain(

@@ -218,7 +218,7 @@ class CameraWork:
         if cmask is not None:
             fg &= cmask
         W, ids = classify_camera(st, crop, cmask, fg, self.color_model, self.noise_model, o)
-        ids = clean_ids(ids, o.blob_fraction, o.blob_attach)
+        ids = clean_ids(ids, o.blob_fraction, o.blob_attach, o.sleeve_attach)
         counts = np.bincount(ids.ravel(), minlength=NUM_COLORS + 1)[1:]
         min_px = max(4, int(o.min_color_fraction * ids.size))
         if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
@@ -284,7 +284,8 @@ class CameraWork:
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
         pen, owner = renderer.prior_penalty(rend, C, min_px)
         cls = self.noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
-        ids = clean_ids(cls.ids, o.blob_fraction, o.blob_attach)
+        ids = clean_ids(cls.ids, o.blob_fraction, o.blob_attach,
+                        o.sleeve_attach)
         view.ids = ids
         k = ids.astype(np.int64) - 1
         yy, xx = np.nonzero(ids)

@@ -42,7 +42,10 @@ class ColorShirtOptions:
       ``crop_margin`` its size relative to the located window; ``blob_fraction``:
       classified blobs smaller than this fraction of the largest are dropped, unless
       they lie within ``blob_attach`` of the shirt's extent of the largest (an arm
-      held beside the body, cut off from the torso by its white shoulder cap).
+      held beside the body, cut off from the torso by its white shoulder cap);
+      ``sleeve_attach``: a blob in two sleeve colors is kept within this larger
+      fraction (both forearms raised together over the head, which the head
+      separates from the upper arms; beyond the paper).
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
       as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
       share of the crop a patch must cover to become an IK anchor.
@@ -162,6 +165,7 @@ class ColorShirtOptions:
     crop_margin: float = 2.6
     blob_fraction: float = 0.15
     blob_attach: float = 0.1
+    sleeve_attach: float = 0.2
     min_colors: int = 4
     min_color_fraction: float = 0.002
     min_patch_fraction: float = 0.0015
@@ -221,6 +225,7 @@ class ColorShirtOptions:
         for name, value in (("wb_smoothing", self.wb_smoothing),
                             ("blob_fraction", self.blob_fraction),
                             ("blob_attach", self.blob_attach),
+                            ("sleeve_attach", self.sleeve_attach),
                             ("min_color_fraction", self.min_color_fraction),
                             ("min_patch_fraction", self.min_patch_fraction)):
             if not (np.isfinite(value) and 0 <= value < 1):

@@ -106,7 +106,8 @@ class CameraView:
 
 
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
-              attach_fraction: float = 0.1) -> NDArray[np.uint8]:
+              attach_fraction: float = 0.1,
+              sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
     """Keep the shirt-like blobs of a classification.
 
     Speckle is opened away. Blobs are formed from the colored (non-white)
@@ -121,8 +122,13 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     the reach: at 12-15% of the shirt's area it came and went from frame to frame,
     and the arm with it). Next to the shirt a one-colored blob is kept
     only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
-    colors it is more likely the face or a hand than a piece of shirt. White,
-    which walls and mortar also match, is kept only next to the kept blobs.
+    colors it is more likely the face or a hand than a piece of shirt. A blob in
+    two sleeve colors that lies over the shirt (above its top, within its columns)
+    is also kept within ``sleeve_attach`` (a larger fraction of the shirt's extent,
+    if given) of it: both forearms raised together over the head form one such
+    blob, which the head separates from the shirt by a little more than
+    ``attach_fraction``. White, which walls and mortar also match, is kept only
+    next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
@@ -145,11 +151,25 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     keep = valid & (area >= blob_fraction * area[main])
     sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
-    if reach > 0:
-        main_mask = (labels == main).astype(np.uint8)
-        around = cv2.dilate(main_mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)) > 0
-        touching = np.bincount(labels[around & sel], minlength=n) > 0
-        keep |= touching & (valid | sleeve)
+    sleeve_reach = int(sleeve_attach * extent)
+    if max(reach, sleeve_reach) > 0:
+        # each blob's least chessboard distance (the square neighbourhood) to the shirt
+        gap = cv2.distanceTransform((labels != main).astype(np.uint8), cv2.DIST_C, 3)
+        ly = np.asarray(labels[sel], np.intp)
+        nearest = np.full(n, np.inf)
+        np.minimum.at(nearest, ly, gap[sel])
+        if reach > 0:
+            keep |= (nearest <= reach) & (valid | sleeve)
+        if sleeve_reach > 0:
+            # over the head: above the shirt's top and within its columns
+            py, lx = np.nonzero(sel)
+            bottom = np.full(n, -1)
+            np.maximum.at(bottom, ly, py)
+            left, right = np.full(n, ids.shape[1]), np.full(n, -1)
+            np.minimum.at(left, ly, lx)
+            np.maximum.at(right, ly, lx)
+            over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
+            keep |= (nearest <= sleeve_reach) & valid & sleeve & over
     # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
     bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
     _, bridged = cv2.connectedComponents(bridge, connectivity=8)
