@@ -42,9 +42,6 @@ def test_default_headless_run_wins_a_whole_fight_with_every_motion_recognized_in
 
 @pytest.mark.slow
 @pytest.mark.gl
-@pytest.mark.xfail(strict=True, reason="since 2026-11-25 the color-shirt run misses 4 of its 8 "
-                   "double hits (also on main f9056a2, before the silhouette default; "
-                   "docs/ninja.md)")
 def test_color_shirt_run_wins_a_whole_fight_with_every_motion_recognized_in_time(
         tmp_path, synth_gl):
     from apps.ninja.__main__ import main
