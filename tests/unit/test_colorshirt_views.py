@@ -7,7 +7,7 @@ import pytest
 
 from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids
 
-RED, ORANGE, YELLOW, CYAN, BLUE, PURPLE = 1, 2, 3, 6, 7, 8
+RED, ORANGE, YELLOW, GREEN, CYAN, BLUE, PURPLE = 1, 2, 3, 5, 6, 7, 8
 
 
 def _torso(ids: np.ndarray) -> None:
@@ -86,62 +86,95 @@ def test_lone_forearm_next_to_the_shirt_is_kept_in_its_sleeve_color() -> None:
     assert np.count_nonzero(out == PURPLE) == 120
 
 
+RAISED_SHIRT = (130, 120)
+
+
+def _shirt_with_raised_arms(ids: np.ndarray) -> None:
+    """A 50 x 40 two-color torso at rows 50..100, columns 40..80, and both upper arms
+    raised from its shoulders (rows 36..50): the shirt spans 63 px, so the attach
+    reach is 6 px and the sleeve reach 12 px."""
+    ids[50:100, 40:60] = RED
+    ids[50:100, 60:80] = ORANGE
+    ids[36:50, 41:45] = CYAN
+    ids[36:50, 75:79] = GREEN
+
+
 def _forearms_over_the_head(ids: np.ndarray, left: int, right: int) -> None:
     """Both forearms raised together, crossed over the head: one blob in two colors
-    at rows 4..11, 7 px above the torso (the head between them)."""
-    ids[4:12, 50:60] = left
-    ids[4:12, 60:70] = right
+    at rows 20..27, 9 px above the elbows (the head between the upper arms)."""
+    ids[20:28, 50:60] = left
+    ids[20:28, 60:70] = right
 
 
 def test_both_forearms_over_the_head_are_kept_within_the_sleeve_reach() -> None:
-    ids = np.zeros((100, 120), np.uint8)
-    _torso(ids)
+    ids = np.zeros(RAISED_SHIRT, np.uint8)
+    _shirt_with_raised_arms(ids)
     _forearms_over_the_head(ids, BLUE, PURPLE)
-    # 7 px is beyond the attach reach (10% of the 49 px shirt: 4 px) ...
+    # 9 px is beyond the attach reach (10% of the 63 px shirt: 6 px) ...
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1)
-    assert not np.any(out[:18])
-    # ... and within the sleeve reach (20%: 9 px)
+    assert not np.any(out[:34])
+    # ... and within the sleeve reach (20%: 12 px) of the raised upper arms
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
     assert np.count_nonzero(out == BLUE) == 80
     assert np.count_nonzero(out == PURPLE) == 80
 
 
+def test_sleeve_reach_drops_a_blob_over_the_shoulder_when_no_upper_arm_is_raised() -> None:
+    # fruit on a shelf just above the shoulder (the validation set's kick clip, side
+    # camera): sleeve colors over the shirt, within the sleeve reach of the torso and
+    # of the top of a hanging arm, but no raised upper arm for forearms to hang from
+    ids = np.zeros(RAISED_SHIRT, np.uint8)
+    ids[50:100, 40:60] = RED
+    ids[50:100, 60:80] = ORANGE
+    ids[50:80, 34:38] = CYAN              # an arm hanging beside the torso
+    ids[35:43, 40:48] = BLUE              # the fruit, 8 px above the shoulder
+    ids[35:43, 48:56] = GREEN
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:46])
+    assert np.count_nonzero(out == CYAN) == 120
+    # raise the upper arm and the same blob is a forearm over the head
+    ids[50:80, 34:38] = 0
+    ids[44:50, 41:45] = CYAN
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert np.count_nonzero(out == BLUE) == 64
+
+
 def test_sleeve_reach_keeps_only_blobs_in_two_sleeve_colors() -> None:
-    ids = np.zeros((100, 120), np.uint8)
-    _torso(ids)
+    ids = np.zeros(RAISED_SHIRT, np.uint8)
+    _shirt_with_raised_arms(ids)
     _forearms_over_the_head(ids, RED, YELLOW)  # torso colors there: not an arm
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
-    assert not np.any(out[:18])
-    ids[:18] = 0
-    ids[4:12, 55:65] = PURPLE                 # one sleeve color alone: not kept that far
+    assert not np.any(out[:34])
+    ids[:34] = 0
+    ids[20:28, 55:65] = PURPLE                # one sleeve color alone: not kept that far
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
-    assert not np.any(out[:18])
+    assert not np.any(out[:34])
 
 
 def test_sleeve_reach_keeps_only_blobs_over_the_shirt() -> None:
-    # the same two sleeve colors 7 px above the torso but beside its columns: a
-    # poster by the player's head, not forearms over it
-    ids = np.zeros((100, 120), np.uint8)
-    _torso(ids)
-    ids[4:12, 82:92] = BLUE
-    ids[4:12, 92:102] = PURPLE
+    # the same two sleeve colors 9 px above the raised arms but beside the shirt's
+    # columns: a poster by the player's head, not forearms over it
+    ids = np.zeros(RAISED_SHIRT, np.uint8)
+    _shirt_with_raised_arms(ids)
+    ids[20:28, 82:92] = BLUE
+    ids[20:28, 92:102] = PURPLE
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
-    assert not np.any(out[:18])
+    assert not np.any(out[:34])
     # and below the shirt's top (beside the torso) it is no forearm over the head
-    ids[:18] = 0
-    ids[30:40, 28:32] = BLUE              # 8 px left of the torso
-    ids[40:50, 28:32] = PURPLE
+    ids[:34] = 0
+    ids[60:70, 28:32] = BLUE              # 8 px left of the torso
+    ids[70:80, 28:32] = PURPLE
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
     assert not np.any(out[:, :38])
 
 
 def test_sleeve_colored_poster_beyond_the_sleeve_reach_is_dropped() -> None:
-    ids = np.zeros((100, 120), np.uint8)
-    _torso(ids)
-    ids[85:95, 100:105] = CYAN            # 15 px below the shirt
-    ids[85:95, 105:110] = PURPLE
+    ids = np.zeros(RAISED_SHIRT, np.uint8)
+    _shirt_with_raised_arms(ids)
+    ids[115:125, 100:105] = CYAN          # 16 px below the shirt
+    ids[115:125, 105:110] = PURPLE
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
-    assert not np.any(out[75:, 90:])
+    assert not np.any(out[105:, 90:])
 
 
 def test_prior_penalty_slope_is_the_papers_under_a_mild_balance_and_grows_with_its_gain(

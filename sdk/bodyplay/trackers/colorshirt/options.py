@@ -44,8 +44,9 @@ class ColorShirtOptions:
       they lie within ``blob_attach`` of the shirt's extent of the largest (an arm
       held beside the body, cut off from the torso by its white shoulder cap);
       ``sleeve_attach``: a blob in two sleeve colors is kept within this larger
-      fraction (both forearms raised together over the head, which the head
-      separates from the upper arms; beyond the paper).
+      fraction of the raised upper arms when it lies over the shirt (both forearms
+      raised together over the head, which the head separates from the upper arms;
+      beyond the paper).
     * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
       as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
       share of the crop a patch must cover to become an IK anchor.

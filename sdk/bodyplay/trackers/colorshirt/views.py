@@ -125,10 +125,13 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     colors it is more likely the face or a hand than a piece of shirt. A blob in
     two sleeve colors that lies over the shirt (above its top, within its columns)
     is also kept within ``sleeve_attach`` (a larger fraction of the shirt's extent,
-    if given) of it: both forearms raised together over the head form one such
-    blob, which the head separates from the shirt by a little more than
-    ``attach_fraction``. White, which walls and mortar also match, is kept only
-    next to the kept blobs.
+    if given) of its raised upper arms (the shirt's sleeve-colored pixels above the
+    top of its torso colors): both forearms raised together over the head form one
+    such blob, which the head separates from the shirt by a little more than
+    ``attach_fraction``, and they hang from the elbows; with no upper arm raised
+    there are no forearms over the head (sleeve-colored fruit on a shelf above a
+    shoulder). White, which walls and mortar also match, is kept only next to the
+    kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
@@ -169,7 +172,23 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
             np.minimum.at(left, ly, lx)
             np.maximum.at(right, ly, lx)
             over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
-            keep |= (nearest <= sleeve_reach) & valid & sleeve & over
+            candidate = (nearest <= sleeve_reach) & valid & sleeve & over & ~keep
+            if candidate.any():
+                # forearms over the head hang from raised upper arms: the shirt's
+                # sleeve-colored pixels above its torso colors' top (the elbows are
+                # there); the blob must lie within reach of them, not merely of the
+                # torso (fruit on a shelf above a shoulder, arms down)
+                body = sel & (labels == main)
+                on_sleeve = np.isin(ids, _SLEEVE_IDS)
+                torso_rows = np.nonzero((body & ~on_sleeve).any(axis=1))[0]
+                arm = body & on_sleeve
+                if len(torso_rows):
+                    arm[torso_rows[0]:] = False
+                if arm.any():
+                    arm_gap = cv2.distanceTransform((~arm).astype(np.uint8), cv2.DIST_C, 3)
+                    from_arm = np.full(n, np.inf)
+                    np.minimum.at(from_arm, ly, arm_gap[sel])
+                    keep |= candidate & (from_arm <= sleeve_reach)
     # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
     bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
     _, bridged = cv2.connectedComponents(bridge, connectivity=8)
