@@ -149,6 +149,9 @@ def test_sleeve_reach_keeps_only_blobs_in_two_sleeve_colors() -> None:
     ids[20:28, 55:65] = PURPLE                # one sleeve color alone: not kept that far
     out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
     assert not np.any(out[:34])
+    ids[20:24, 53:55] = ORANGE                # nor with a speck of a torso color
+    out = clean_ids(ids, blob_fraction=0.15, attach_fraction=0.1, sleeve_attach=0.2)
+    assert not np.any(out[:34])
 
 
 def test_sleeve_reach_keeps_only_blobs_over_the_shirt() -> None:

@@ -123,7 +123,7 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     and the arm with it). Next to the shirt a one-colored blob is kept
     only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
     colors it is more likely the face or a hand than a piece of shirt. A blob in
-    two sleeve colors that lies over the shirt (above its top, within its columns)
+    two sleeve colors (each at least 3% of it and 3 px) that lies over the shirt (above its top, within its columns)
     is also kept within ``sleeve_attach`` (a larger fraction of the shirt's extent,
     if given) of its raised upper arms (the shirt's sleeve-colored pixels above the
     top of its torso colors): both forearms raised together over the head form one
@@ -172,7 +172,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
             np.minimum.at(left, ly, lx)
             np.maximum.at(right, ly, lx)
             over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
-            candidate = (nearest <= sleeve_reach) & valid & sleeve & over & ~keep
+            # two forearms: two sleeve colors, each more than a few pixels
+            two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
+                axis=1) >= 2
+            candidate = (nearest <= sleeve_reach) & valid & two_sleeves & sleeve & over & ~keep
             if candidate.any():
                 # forearms over the head hang from raised upper arms: the shirt's
                 # sleeve-colored pixels above its torso colors' top (the elbows are
