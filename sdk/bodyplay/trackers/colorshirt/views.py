@@ -124,8 +124,8 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
     colors it is more likely the face or a hand than a piece of shirt. A blob in
     two sleeve colors (each at least 3% of it and 3 px) that lies over the shirt
-    (above its top, within its columns) is also kept within ``sleeve_attach`` (a larger fraction of the shirt's extent,
-    if given) of its raised upper arms (the shirt's sleeve-colored pixels above the
+    (above its top, within its columns) is also kept within ``sleeve_attach`` (a
+    larger fraction of the shirt's extent, if given) of its raised upper arms (the shirt's sleeve-colored pixels above the
     top of its torso colors): both forearms raised together over the head form one
     such blob, which the head separates from the shirt by a little more than
     ``attach_fraction``, and they hang from the elbows; with no upper arm raised
