@@ -125,13 +125,13 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     colors it is more likely the face or a hand than a piece of shirt. A blob in
     two sleeve colors (each at least 3% of it and 3 px) that lies over the shirt
     (above its top, within its columns) is also kept within ``sleeve_attach`` (a
-    larger fraction of the shirt's extent, if given) of its raised upper arms (the shirt's sleeve-colored pixels above the
-    top of its torso colors): both forearms raised together over the head form one
-    such blob, which the head separates from the shirt by a little more than
-    ``attach_fraction``, and they hang from the elbows; with no upper arm raised
-    there are no forearms over the head (sleeve-colored fruit on a shelf above a
-    shoulder). White, which walls and mortar also match, is kept only next to the
-    kept blobs.
+    larger fraction of the shirt's extent, if given) of its raised upper arms
+    (the shirt's sleeve-colored pixels above the top of its torso colors): both
+    forearms raised together over the head form one such blob, which the head
+    separates from the shirt by a little more than ``attach_fraction``, and they
+    hang from the elbows; with no upper arm raised there are no forearms over the
+    head (sleeve-colored fruit on a shelf above a shoulder). White, which walls
+    and mortar also match, is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
