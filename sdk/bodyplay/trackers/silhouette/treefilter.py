@@ -161,8 +161,9 @@ class TreeFilter:
             else:
                 loglik[scored] = under[scored]
             if lv == 2 and o.fit_prior > 0:  # the observation-driven share of the prior
+                fit = np.exp(ll)
                 seen = np.zeros(n_leaf)
-                seen[expand] = np.exp(ll) / np.exp(ll).sum()
+                seen[expand] = fit / fit.sum()
                 prior = (1.0 - o.fit_prior) * prior + o.fit_prior * seen
             node_prior = np.bincount(anc[lv], weights=prior, minlength=len(tree.node_pose[lv]))
             post = np.log(np.maximum(node_prior[expand], 1e-300)) + ll
