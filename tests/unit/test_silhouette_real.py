@@ -144,3 +144,30 @@ def test_background_drop_guess_stops_resolving_the_first_frame_guess() -> None:
         sil = model.apply(img)
     assert model.player is None
     assert sil.foreground.shape == sil.unknown.shape
+
+
+def test_real_footage_error_split_reports_a_back_view_as_a_half_turn_and_ignores_placement(
+        ) -> None:
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bodyplay.body.joints import JOINT_NAMES
+    from bodyplay.body.skeleton import Skeleton
+    from silhouette_real import _aligned_and_heading
+
+    truth = Skeleton.from_shape("m").joint_positions(Skeleton.from_shape("m").rest_pose())
+    moved = truth + np.array([0.3, 0.0, -0.5])
+    aligned, heading = _aligned_and_heading(moved, truth)
+    assert aligned < 1e-9 and heading < 1e-6
+    # the back seen as the front: mirrored through the body's frontal plane, the
+    # labels of the left and right joints kept
+    mirrored = truth.copy()
+    mirrored[:, 2] = 2 * truth[0, 2] - truth[:, 2]
+    swap = [JOINT_NAMES.index(n.replace("l_", "#").replace("r_", "l_").replace("#", "r_"))
+            for n in JOINT_NAMES]
+    turned = mirrored[swap]
+    _, heading = _aligned_and_heading(turned, truth)
+    assert heading > 170
+    no_hips = truth.copy()
+    no_hips[11] = np.nan
+    assert all(np.isnan(v) for v in _aligned_and_heading(truth, no_hips))
