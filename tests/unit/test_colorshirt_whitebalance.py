@@ -90,7 +90,7 @@ def test_reference_illuminations_store_only_distinct_matrices_and_pick_the_best(
     assert not refs.add(np.eye(3) * 1.1)  # Frobenius distance 0.17
     tungsten_W = np.diag([1 / 1.3, 1 / 0.95, 1 / 0.55])
     assert refs.add(tungsten_W)
-    assert len(refs) == 2
+    assert len(refs.matrices) == 2
     rng = np.random.default_rng(7)
     model = srgb_color_model()
     img = clutter(200, 200, rng)

@@ -22,8 +22,7 @@ from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.whitebalance import white_balance_from_ids
 
-__all__ = ["synthetic_color_samples", "multi_light_color_model", "scribble_labels",
-           "scribble_samples"]
+__all__ = ["synthetic_color_samples", "scribble_labels", "scribble_samples"]
 
 
 def synthetic_color_samples(
@@ -88,29 +87,6 @@ def synthetic_color_samples(
                 px_all.append(px[sel])
                 lab_all.append(lab.ravel()[sel])
     return np.concatenate(px_all), np.concatenate(lab_all)
-
-
-def multi_light_color_model(
-    n_poses: int = 36,
-    lightings: Sequence[str] = ("steady", "tungsten", "fluorescent", "dim", "mixed"),
-    seed: int = 0,
-) -> ColorModel:
-    """Fit under neutral light, then refit on all ``lightings`` white-balanced onto it.
-
-    The Gaussians then cover what remains after the best global white balance under
-    colored, dim and mixed light (shading, saturation, sensor noise).
-    """
-    px, lab = synthetic_color_samples(n_poses, seed=seed)
-    reference = ColorModel.fit(px, lab)
-    parts_px, parts_lab = [px], [lab]
-    for i, name in enumerate(lightings):
-        if name == "steady":
-            continue
-        p, lb = synthetic_color_samples(max(6, n_poses // 3), lighting=name, seed=seed + 100 + i,
-                                        reference=reference)
-        parts_px.append(p)
-        parts_lab.append(lb)
-    return ColorModel.fit(np.concatenate(parts_px), np.concatenate(parts_lab))
 
 
 def scribble_labels(mask_rgb: NDArray[np.uint8], tolerance: float = 60.0) -> NDArray[np.int64]:

@@ -238,9 +238,6 @@ class ReferenceIlluminations:
     max_size: int = 32
     matrices: list[NDArray[np.float64]] = field(default_factory=list)
 
-    def __len__(self) -> int:
-        return len(self.matrices)
-
     def add(self, W: ArrayLike) -> bool:
         """Store ``W`` if it is new enough; True when it was stored."""
         Wm = np.asarray(W, dtype=np.float64)
@@ -271,7 +268,3 @@ class ReferenceIlluminations:
             if n > best_n:
                 best_n, best = n, (W, cls)
         return best
-
-    def clear(self) -> None:
-        """Forget every stored illumination."""
-        self.matrices.clear()
