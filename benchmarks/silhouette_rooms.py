@@ -42,7 +42,6 @@ a few minutes on two shared cores.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import datetime
 import json
 import os
@@ -58,6 +57,7 @@ import numpy as np
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.jsonl import read_pose_jsonl
 from bodyplay.capture.sources import open_source
+from bodyplay.overrides import options_with_overrides
 from bodyplay.trackers.silhouette import (
     SilhouetteOptions,
     create_silhouette_tracker,
@@ -182,31 +182,6 @@ def summarize(rows: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
-def parse_set(items: list[str]) -> SilhouetteOptions:
-    """SilhouetteOptions with ``NAME=VALUE`` fields replaced (``background.NAME`` for
-    the background model's, ``hierarchy.NAME`` for the tree's)."""
-    o = SilhouetteOptions()
-    top: dict[str, Any] = {}
-    sub: dict[str, dict[str, Any]] = {"background": {}, "hierarchy": {}}
-    for item in items:
-        name, _, text = item.partition("=")
-        try:
-            value: Any = json.loads(text)
-        except json.JSONDecodeError:
-            value = text
-        if isinstance(value, list):
-            value = tuple(value)
-        head, _, rest = name.partition(".")
-        if rest:
-            sub[head][rest] = value
-        else:
-            top[name] = value
-    for head, fields in sub.items():
-        if fields:
-            top[head] = dataclasses.replace(getattr(o, head), **fields)
-    return dataclasses.replace(o, **top)
-
-
 def main(argv: list[str] | None = None) -> int:
     """Render what is missing, track every capture of a half, print the tables."""
     p = argparse.ArgumentParser(description=__doc__,
@@ -232,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     work = Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
-    options = parse_set(args.set)
+    options = options_with_overrides(SilhouetteOptions(), args.set)
     only = set(args.rooms.split(",")) if args.rooms else None
     todo = [t for t in plan(args.half, args.clips_per_room) if only is None or t[0] in only]
     if args.same:  # the same clips, all in one room (rows keep their room's name)

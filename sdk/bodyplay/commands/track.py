@@ -52,7 +52,8 @@ def register(subparsers: Any) -> None:
                     help="any other ColorShirtOptions field (repeatable), e.g. "
                          "--set max_speed=4 --set measurement_noise=0 --set locate.tau=0.12; "
                          "see docs/colorshirt.md for the list; with --tracker silhouette "
-                         "a SilhouetteOptions field, e.g. --set max_distance=12")
+                         "a SilhouetteOptions field, e.g. --set max_distance=12 "
+                         "--set background.learn_after=8")
     p.set_defaults(func=run)
 
 
@@ -90,32 +91,13 @@ def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
 
 
 def _silhouette_options(items: list[str]) -> Any:
-    """SilhouetteOptions with ``--set NAME=VALUE`` applied to its number, text and
-    pair fields (e.g. ``--set max_distance=12`` for a camera far from the player)."""
-    import dataclasses
-    import typing
-
+    """SilhouetteOptions with ``--set NAME=VALUE`` applied (any field, ``background.NAME``
+    and ``hierarchy.NAME`` for the nested ones; e.g. ``--set max_distance=12`` for a
+    camera far from the player)."""
+    from bodyplay.overrides import options_with_overrides
     from bodyplay.trackers.silhouette import SilhouetteOptions
 
-    hints = typing.get_type_hints(SilhouetteOptions)
-    settable = {k: h for k, h in hints.items() if k not in ("hierarchy", "background")}
-    values: dict[str, Any] = {}
-    for item in items:
-        key, sep, text = (part.strip() for part in item.partition("="))
-        if not sep or key not in settable:
-            raise ConfigError(f"--set {item!r}: write NAME=VALUE with NAME one of "
-                              f"{', '.join(settable)}")
-        hint = settable[key]
-        try:
-            if hint is float or hint is int:
-                values[key] = hint(text)
-            elif typing.get_origin(hint) is tuple:
-                values[key] = tuple(int(v) for v in text.split(",") if v.strip())
-            else:  # str, or str | None
-                values[key] = None if text.lower() in ("none", "") and key == "cache" else text
-        except ValueError:
-            raise ConfigError(f"--set {item!r}: cannot read {text!r} as {hint}") from None
-    return dataclasses.replace(SilhouetteOptions(), **values)
+    return options_with_overrides(SilhouetteOptions(), items)
 
 
 def draw_overlay(image: NDArray[np.uint8], result: Any, camera: Any,

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-import dataclasses
-import typing
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.errors import ConfigError
+from bodyplay.overrides import options_with_overrides
 from bodyplay.trackers.colorshirt.bodyselect import ARM_SCALES
 from bodyplay.trackers.colorshirt.locate import LocateOptions
 
@@ -313,73 +311,3 @@ class ColorShirtOptions:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):
                 raise ConfigError("initial_white_balance must be a finite 3x3 matrix")
-
-
-_TRUE = {"1", "true", "yes", "on"}
-_FALSE = {"0", "false", "no", "off"}
-
-
-def _convert(name: str, text: str, hint: object) -> object:
-    """One ``--set`` value converted to the type of the field it sets."""
-    t = text.strip()
-    args = typing.get_args(hint)
-    if type(None) in args:
-        if t.lower() in ("none", "null", ""):
-            return None
-        hint = next(a for a in args if a is not type(None))
-    origin = typing.get_origin(hint) or hint
-    try:
-        if hint is bool:
-            if t.lower() in _TRUE | _FALSE:
-                return t.lower() in _TRUE
-            raise ValueError(t)
-        if hint is int:
-            return int(t)
-        if hint is float:
-            return float(t)
-        if origin is tuple:
-            parts = [p for p in t.replace("(", "").replace(")", "").split(",") if p.strip()]
-            inner = typing.get_args(hint)[0]
-            if typing.get_origin(inner) is tuple:  # a matrix, rows separated by ';'
-                return tuple(tuple(float(v) for v in row.split(",") if v.strip())
-                             for row in t.split(";"))
-            return tuple(float(p) for p in parts)
-    except ValueError:
-        kind = ("true or false" if hint is bool else
-                f"a number ({hint.__name__})" if hint in (int, float) else
-                "comma-separated numbers" if origin is tuple else str(hint))
-        raise ConfigError(f"option {name}: cannot read {text!r}; expected {kind}") from None
-    return t
-
-
-def options_with_overrides(base: ColorShirtOptions, items: Iterable[str]) -> ColorShirtOptions:
-    """``base`` with ``NAME=VALUE`` strings applied (``bodyplay track --set``).
-
-    Values are converted to each field's type (``true``/``false`` for switches,
-    ``none`` for optional ones, comma-separated numbers for tuples); ``locate.NAME``
-    sets a field of the histogram search's :class:`LocateOptions`. Unknown names and
-    unreadable values raise :class:`ConfigError` naming the valid choices.
-    """
-    top: dict[str, object] = {}
-    loc: dict[str, object] = {}
-    hints = typing.get_type_hints(ColorShirtOptions)
-    loc_hints = typing.get_type_hints(LocateOptions)
-    for item in items:
-        if "=" not in item:
-            raise ConfigError(f"--set {item!r}: write NAME=VALUE, e.g. --set max_speed=4")
-        key, value = (part.strip() for part in item.split("=", 1))
-        if key.startswith("locate."):
-            sub = key.split(".", 1)[1]
-            if sub not in loc_hints:
-                raise ConfigError(f"unknown locate option {sub!r}; choose one of "
-                                  f"{', '.join(loc_hints)}")
-            loc[sub] = _convert(key, value, loc_hints[sub])
-        elif key in hints and key != "locate":
-            top[key] = _convert(key, value, hints[key])
-        else:
-            names = [f.name for f in dataclasses.fields(ColorShirtOptions) if f.name != "locate"]
-            raise ConfigError(f"unknown colorshirt option {key!r}; choose one of "
-                              f"{', '.join(names)} or locate.NAME")
-    if loc:
-        top["locate"] = dataclasses.replace(base.locate, **loc)  # type: ignore[arg-type]
-    return dataclasses.replace(base, **top)  # type: ignore[arg-type]
