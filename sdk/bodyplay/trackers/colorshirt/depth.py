@@ -1,7 +1,8 @@
-"""One camera's root depth over time: one Kalman filter for the feet and the body's size.
+"""One camera's root depth over time: one Kalman filter for the feet, the body's size
+and its stance.
 
-One camera cannot tell a small person near from a tall one far. Two cues tell the
-root's depth along the camera's axis:
+One camera cannot tell a small person near from a tall one far. Three cues tell
+the root's depth ``d`` along the camera's axis, each with a stated noise:
 
 * the **feet on the floor** (:mod:`.floor`): where the lowest pixels of the
   person meet the floor, raised to the root's height; about 5 cm when the feet
@@ -12,34 +13,44 @@ root's depth along the camera's axis:
   root at the depth where the skeleton's metric lengths project as large as the
   shirt looks. It is always there, noisy (a lean towards the camera reads as
   distance) and biased by the ratio of the player's size to the model's: an 8%
-  larger player reads 8% too near.
+  larger player reads 8% too near;
+* the **root's height** (the stance): the root lies on the ray through where the
+  fit sees it, whose height at depth ``d`` is ``c_y + r d`` (``c_y`` the camera's
+  height, ``r`` the ray's rise per metre of depth); a player standing on the
+  floor holds it at the legs' length, ``s h0`` for a player ``s`` times the
+  reference body's size (``h0`` its standing pelvis height). The camera's
+  height is the metric ruler here: the cue ties size and depth together
+  without the feet, and tells when the feet leave the floor (the root then
+  stands higher than the legs are long).
 
-:class:`RootDepthFilter` combines both in one extended Kalman filter (filterpy)
-on ``[depth, depth speed, body scale, floor bias]``: the scale ``s`` is the
-player's size over the reference body's, so the shirt reads ``depth / s``; it
-starts at 1 with ``scale_std`` and is learned whenever the feet are seen, so
-that the shirt alone holds the depth when the feet leave the floor or vanish.
-The feet read ``depth + b``: where the lowest pixel of a foot lies relative to
-the pelvis depends on the stance (toes towards the camera, a bow that moves the
-pelvis back), a bias per player and motion of about ``floor_bias_std`` (5 cm
-on the tune half) that no number of readings averages away, so the reported
-uncertainty never falls below it. Each reading has a stated standard deviation
-(``floor_std`` metres; ``shirt_std`` as a fraction of the depth) and is left out
-when its innovation exceeds ``gate`` variances (the feet in the air, a wrong
-fit of the shirt). Without a floor reading ever, the depth is the shirt's with
-the scale's uncertainty: a missing floor cue costs about ``scale_std`` of the
-depth (6%: 18 cm at 3 m), which the reported standard deviation says. Beyond
-the paper. Feet leave the floor upwards only, which reads them further: a floor
-reading further than predicted by more than one standard deviation of the
-innovation is left out (with the symmetric gate alone, a hop's rising feet
-passed it a little at a time and dragged the depth 16 cm too far; on the
-tune half's hop clip 30 cm). A player who really walks away is followed
-through the shirt's readings, or after ``max_rejects`` readings in a row.
+:class:`RootDepthFilter` combines them in one Kalman filter (filterpy) on
+``[depth, depth speed, body scale, floor bias, stance bias]``. The size and the
+depth are coupled in two of the three readings: the shirt reads ``d / s``
+(linearized about the state: an extended Kalman filter) and the stance
+``c_y + r d = s h0 + b_h``. The two biases are what no number of readings
+averages away, so the reported uncertainty never falls below them: ``b_f``,
+where the lowest pixel of a foot lies relative to the pelvis in this player's
+stance (toes towards the camera, a bow that moves the pelvis back; prior
+``floor_bias_std``), and ``b_h``, how far this player's root stands from the
+reference body's standing height scaled (knees bent in a boxing stance, the fit
+placing the root's pixel a little off; prior ``stance_bias_std``).
 
-Per frame: :meth:`RootDepthFilter.begin` (predict, floor reading),
-:meth:`RootDepthFilter.posterior` for each candidate fit (the shirt reading
-folded in, nothing committed: the IK's prior on the root's depth), and
-:meth:`RootDepthFilter.end` with the reported fit's shirt reading.
+Each reading is left out when its innovation exceeds ``gate`` variances, and
+two are one-sided: feet and a root that leave the floor do so upwards only. A
+floor reading further than predicted by more than one standard deviation of
+the innovation is left out (a hop's rising feet passed the symmetric gate a
+little at a time and dragged the depth 16 cm too far), and so is one at whose
+depth the root would stand higher than the legs are long by more than one
+standard deviation (the feet are in the air: the validation's hop clips); a
+stance reading that puts the root that high is left out too (a jump), and one
+far below standing (a crouch) by ``gate``. A player who really walks away is
+followed through the shirt's and the stance's readings, or after
+``max_rejects`` floor readings in a row. Beyond the paper.
+
+Per frame: :meth:`RootDepthFilter.begin` (predict; the feet's floor reading),
+:meth:`RootDepthFilter.posterior` for each candidate fit (its readings folded
+in, nothing committed: the IK's prior on the root's depth), and
+:meth:`RootDepthFilter.end` with the reported fit's readings.
 """
 
 from __future__ import annotations
@@ -51,23 +62,40 @@ from filterpy.common import Q_discrete_white_noise
 from filterpy.kalman import KalmanFilter
 from numpy.typing import NDArray
 
-__all__ = ["RootDepthFilter"]
+__all__ = ["RootDepthFilter", "RootRay"]
+
+_N = 6
+"""State size: depth, depth speed, scale, floor bias, stance bias, shirt bias."""
+
+
+@dataclass(frozen=True)
+class RootRay:
+    """Where a lone camera sees the root: the height of the ray through it at depth
+    ``d`` is ``height + rise * d`` (world metres above the floor)."""
+
+    height: float
+    """The camera centre's height above the floor (m)."""
+    rise: float
+    """How much the ray rises per metre of depth along the camera's axis."""
 
 
 @dataclass
 class RootDepthFilter:
-    """Extended Kalman filter on ``[depth, depth speed, body scale]`` along a lone
-    camera's axis (see the module docstring).
+    """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias]``
+    along a lone camera's axis (see the module docstring).
 
     ``accel``: std of the root's acceleration along the axis (m/s², white noise);
     ``floor_std``: std of a floor reading (m); ``shirt_std``: std of the shirt's
     reading as a fraction of the depth; ``scale_std``: the prior std of the
     player's size relative to the reference body; ``floor_bias_std``: the prior std
-    of the floor readings' common bias (m); ``gate``: squared innovation, in
-    variances, beyond which a reading is left out; after ``max_rejects`` rejected
-    readings of a kind in a row the depth restarts from the reading (it, not the
+    of the floor readings' common bias (m); ``standing_height``: the reference
+    body's standing root height ``h0`` (m; 0: no stance reading);
+    ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
+    of this player's stance bias (m); ``gate``: squared innovation, in variances,
+    beyond which a reading is left out; after ``max_rejects`` rejected floor
+    readings in a row the depth restarts from the reading (it, not the
     prediction, was right); ``horizon``: seconds without a reading after which the
-    depth lapses (the learned scale stays).
+    depth lapses (the learned scale and biases stay).
     """
 
     accel: float = 3.0
@@ -77,6 +105,13 @@ class RootDepthFilter:
     gate: float = 9.0
     max_rejects: int = 15
     horizon: float = 1.0
+    floor_bias_std: float = 0.08
+    standing_height: float = 0.0
+    stance_std: float = 0.04
+    air_gate: float = 4.0
+    stance_bias_std: float = 0.03
+    shirt_bias: float = 0.03
+    shirt_bias_std: float = 0.05
     camera: int | None = None
     t: float = float("nan")
     """Time of the state."""
@@ -85,51 +120,63 @@ class RootDepthFilter:
     t_floor: float = float("nan")
     """Time of the last floor reading taken in."""
     rejected: bool = False
-    """Whether this frame's floor reading was left out."""
+    """Whether this frame's floor reading was left out (by the last posterior or end)."""
+    airborne: bool = False
+    """Whether the last posterior or end found the feet off the floor."""
     rejects: dict[str, int] = field(default_factory=lambda: {"floor": 0, "shirt": 0})
     kf: KalmanFilter | None = field(default=None, repr=False)
-    floor_bias_std: float = 0.05
+    _floor: float | None = field(default=None, repr=False)
+    """This frame's floor reading, folded in with the fit's readings."""
     _body: tuple[NDArray[np.float64], NDArray[np.float64]] | None = field(default=None,
                                                                          repr=False)
-    """The player's scale and floor bias (means, covariance), kept across a lapse."""
+    """The player's scale and biases (means, covariance), kept across a lapse."""
 
     def __post_init__(self) -> None:
-        self._body = (np.array([1.0, 0.0]), np.diag([self.scale_std**2, self.floor_bias_std**2]))
+        self._body = (np.array([1.0, 0.0, 0.0, self.shirt_bias]),
+                      np.diag([self.scale_std**2, self.floor_bias_std**2,
+                               self.stance_bias_std**2, self.shirt_bias_std**2]))
 
     def _keep_body(self) -> None:
-        """Remember the state's scale and floor bias for a restart of the depth."""
+        """Remember the state's scale and biases for a restart of the depth."""
         if self.kf is not None:
             self._body = (self.kf.x[2:].copy(), self.kf.P[2:, 2:].copy())
 
     # ---- state ---------------------------------------------------------------------
     def _start(self, x: NDArray[np.float64], P: NDArray[np.float64]) -> None:
-        kf = KalmanFilter(dim_x=4, dim_z=1)
+        kf = KalmanFilter(dim_x=_N, dim_z=1)
         kf.x = np.asarray(x, np.float64).copy()
         kf.P = np.asarray(P, np.float64).copy()
         self.kf = kf
         self.rejects = {"floor": 0, "shirt": 0}
 
-    def _from_floor(self, depth: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The state a floor reading alone gives: ``depth = reading - bias``."""
+    def _from(self, depth: float, J0: NDArray[np.float64], var: float
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The state of a reading alone: ``depth``, whose dependence on (scale,
+        floor bias, stance bias) is ``J0``, and ``var`` its own variance."""
         assert self._body is not None
         m, C = self._body
-        x = np.array([depth - m[1], 0.0, m[0], m[1]])
-        J = np.array([[0.0, -1.0], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])  # d(x)/d(s, b)
+        x = np.concatenate([[depth, 0.0], m])
+        J = np.zeros((_N, _N - 2))
+        J[0] = J0
+        J[2:] = np.eye(_N - 2)
         P = J @ C @ J.T
-        P[0, 0] += self.floor_std**2
+        P[0, 0] += var
         P[1, 1] = 1.0
         return x, P
 
-    def _from_shirt(self, reading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The state the shirt's reading alone gives: ``depth = reading * scale``."""
+    def _from_floor(self, depth: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The state a floor reading alone gives: ``depth = reading - bias``."""
         assert self._body is not None
-        m, C = self._body
-        x = np.array([reading * m[0], 0.0, m[0], m[1]])
-        J = np.array([[reading, 0.0], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
-        P = J @ C @ J.T
-        P[0, 0] += (self.shirt_std * reading) ** 2
-        P[1, 1] = 1.0
-        return x, P
+        return self._from(depth - float(self._body[0][1]), np.array([0.0, -1.0, 0.0, 0.0]),
+                          self.floor_std**2)
+
+    def _from_shirt(self, reading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The state the shirt's reading alone gives: ``depth = reading * s (1 + e)``."""
+        assert self._body is not None
+        s, e = float(self._body[0][0]), float(self._body[0][3])
+        depth = reading * s * (1 + e)
+        return self._from(depth, np.array([reading * (1 + e), 0.0, 0.0, reading * s]),
+                          (self.shirt_std * depth) ** 2)
 
     def feet_known(self) -> bool:
         """Whether the depth rests on the feet: a floor reading taken in within the
@@ -156,9 +203,11 @@ class RootDepthFilter:
               cameras_seeing: int = 1) -> None:
         """A new frame at ``t`` in which ``cameras_seeing`` cameras see the shirt, the
         lone one being ``index``, with the feet's floor reading ``floor`` (depth of
-        the root, m; None: no reading). Two or more cameras see depth themselves: the
-        depth is then forgotten; no camera: nothing changes."""
-        self.rejected = False
+        the root, m; None: no reading), folded in with the fit's readings. Two or
+        more cameras see depth themselves: the depth is then forgotten; no camera:
+        nothing changes."""
+        self.rejected = self.airborne = False
+        self._floor = None
         if cameras_seeing == 0:
             return
         if cameras_seeing > 1 or index is None:
@@ -174,79 +223,132 @@ class RootDepthFilter:
             return
         kf = self.kf
         dt = max(t - self.t, 1e-3)
-        kf.F = np.eye(4)
+        kf.F = np.eye(_N)
         kf.F[0, 1] = dt
-        Q = np.zeros((4, 4))
+        Q = np.zeros((_N, _N))
         Q[:2, :2] = Q_discrete_white_noise(dim=2, dt=dt, var=self.accel**2)
         kf.Q = Q
         kf.predict()
         self.t = t
+        self._floor = floor
+
+    @staticmethod
+    def _update(x: NDArray[np.float64], P: NDArray[np.float64], H: NDArray[np.float64],
+                y: float, R: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Kalman update of ``x, P`` by innovation ``y`` of a reading ``H x`` with
+        variance ``R`` (Joseph form)."""
+        S = float(H @ P @ H) + R
+        K = (P @ H) / S
+        I_KH = np.eye(_N) - np.outer(K, H)
+        return x + K * y, I_KH @ P @ I_KH.T + R * np.outer(K, K)
+
+    def _stance_innovation(self, x: NDArray[np.float64], P: NDArray[np.float64],
+                           ray: RootRay, depth: float | None = None
+                           ) -> tuple[NDArray[np.float64], float, float]:
+        """H, innovation and its variance of the stance reading: the ray's height at
+        the state's depth (or at ``depth``) minus ``s h0 + b_h``."""
+        h0 = self.standing_height
+        H = np.array([-ray.rise, 0.0, h0, 0.0, 1.0, 0.0])
+        d = float(x[0]) if depth is None else depth
+        y = ray.height + ray.rise * d - (h0 * float(x[2]) + float(x[4]))
+        if depth is not None:
+            H = H.copy()
+            H[0] = 0.0  # the depth is given, not the state's
+        return H, y, float(H @ P @ H) + self.stance_std**2
+
+    def _fold(self, shirt: float | None, ray: RootRay | None
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, bool]]:
+        """The state with this frame's floor, stance and shirt readings folded in (not
+        committed), and which of them were taken in."""
+        assert self.kf is not None
+        x, P = self.kf.x.copy(), self.kf.P.copy()
+        took = {"floor": False, "shirt": False, "stance": False, "airborne": False,
+                "floor_rejected": False}
+        stance = ray is not None and self.standing_height > 0 and np.isfinite(ray.rise)
+        floor = self._floor
         if floor is not None:
-            H = np.array([[1.0, 0.0, 0.0, 1.0]])  # the feet read depth + bias
-            y = floor - float(kf.x[0] + kf.x[3])
+            if stance:
+                assert ray is not None
+                # at the depth the feet tell, would the root stand higher than the legs
+                # are long? then the feet are off the floor
+                _, y, S = self._stance_innovation(x, P, ray, depth=floor - float(x[3]))
+                if y > 0.0 and y**2 > self.air_gate * S:
+                    took["airborne"] = True
+            H = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])  # the feet read depth + bias
+            y = floor - float(x[0] + x[3])
             R = self.floor_std**2
-            S = float((H @ kf.P @ H.T)[0, 0]) + R
+            S = float(H @ P @ H) + R
             # feet leaving the floor read further: beyond one std further, left out
-            if y**2 <= (1.0 if y > 0.0 else self.gate) * S:
-                self.rejects["floor"] = 0
-                kf.update(np.array([floor]), R=np.array([[R]]), H=H)
-                self.t_read = self.t_floor = t
+            if not took["airborne"] and y**2 <= (1.0 if y > 0.0 else self.gate) * S:
+                x, P = self._update(x, P, H, y, R)
+                took["floor"] = True
             else:
-                self.rejects["floor"] += 1
-                self.rejected = True
-                if self.rejects["floor"] >= self.max_rejects:
-                    self._keep_body()
-                    self._start(*self._from_floor(floor))
-                    self.t_read = self.t_floor = t
+                took["floor_rejected"] = True
+        if stance:
+            assert ray is not None
+            H, y, S = self._stance_innovation(x, P, ray)
+            if y**2 <= (self.air_gate if y > 0.0 else self.gate) * S:
+                x, P = self._update(x, P, H, y, self.stance_std**2)
+                took["stance"] = True
+            elif y > 0.0:
+                took["airborne"] = True
+        if shirt is not None and np.isfinite(shirt) and shirt > 0:
+            d, k = float(x[0]), float(x[2] * (1 + x[5]))  # the shirt reads d / k
+            H = np.array([1.0 / k, 0.0, -d / (k * x[2]), 0.0, 0.0, -d / (k * (1 + x[5]))])
+            R = (self.shirt_std * shirt) ** 2
+            y = shirt - d / k
+            if y**2 <= self.gate * (float(H @ P @ H) + R):
+                x, P = self._update(x, P, H, y, R)
+                took["shirt"] = True
+        return x, P, took
 
-    def _shirt_update(self, x: NDArray[np.float64], P: NDArray[np.float64],
-                      reading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
-        """``x, P`` updated by the shirt's reading (EKF: it reads ``depth / scale``);
-        None when the gate leaves it out."""
-        d, s = float(x[0]), float(x[2])
-        H = np.array([[1.0 / s, 0.0, -d / s**2, 0.0]])
-        R = (self.shirt_std * reading) ** 2
-        S = float((H @ P @ H.T)[0, 0]) + R
-        y = reading - d / s
-        if y**2 > self.gate * S:
-            return None
-        K = (P @ H.T) / S
-        x = x + K[:, 0] * y
-        I_KH = np.eye(4) - K @ H
-        return x, I_KH @ P @ I_KH.T + R * (K @ K.T)
-
-    def posterior(self, shirt: float | None) -> tuple[float, float] | None:
-        """Depth and its std once the shirt's ``shirt`` reading (m, for the reference
-        body's size; None: no reading) is folded in, without committing it; None when
-        nothing is known. A reading the gate leaves out counts as none."""
+    def posterior(self, shirt: float | None, ray: RootRay | None = None
+                  ) -> tuple[float, float] | None:
+        """Depth and its std once this frame's readings are folded in, without
+        committing them: the shirt's ``shirt`` reading (m, for the reference body's
+        size; None: no reading) and where the fit sees the root (``ray``; None: no
+        stance reading); None when nothing is known. A reading the gate leaves out
+        counts as none."""
         if self.kf is None:
-            if shirt is None or self.camera is None:
+            if shirt is None or self.camera is None or not (np.isfinite(shirt) and shirt > 0):
                 return None
             x, P = self._from_shirt(shirt)
             return float(x[0]), float(np.sqrt(P[0, 0]))
-        x, P = self.kf.x, self.kf.P
-        if shirt is not None and np.isfinite(shirt) and shirt > 0:
-            up = self._shirt_update(x, P, shirt)
-            if up is not None:
-                x, P = up
+        x, P, took = self._fold(shirt, ray)
+        self.rejected, self.airborne = took["floor_rejected"], took["airborne"]
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
-    def end(self, t: float, shirt: float | None) -> None:
-        """Commit the reported fit's shirt reading at ``t`` (see :meth:`posterior`)."""
-        if self.camera is None or shirt is None or not (np.isfinite(shirt) and shirt > 0):
+    def end(self, t: float, shirt: float | None, ray: RootRay | None = None) -> None:
+        """Commit the reported fit's readings at ``t`` (see :meth:`posterior`)."""
+        if self.camera is None:
             return
+        good_shirt = shirt is not None and bool(np.isfinite(shirt)) and shirt > 0
         if self.kf is None:
-            self._start(*self._from_shirt(shirt))
-            self.t = self.t_read = t
-            return
-        up = self._shirt_update(self.kf.x, self.kf.P, shirt)
-        if up is None:
-            self.rejects["shirt"] += 1
-            if self.rejects["shirt"] >= self.max_rejects:  # the shirt was right
-                self._keep_body()
+            if good_shirt:
+                assert shirt is not None
                 self._start(*self._from_shirt(shirt))
                 self.t = self.t_read = t
             return
-        self.rejects["shirt"] = 0
-        self.kf.x, self.kf.P = up
-        self.t_read = t
+        x, P, took = self._fold(shirt, ray)
+        self.rejected, self.airborne = took["floor_rejected"], took["airborne"]
+        self.kf.x, self.kf.P = x, P
+        if took["floor"] or took["shirt"] or took["stance"]:
+            self.t_read = t
+        if took["floor"]:
+            self.t_floor = t
+            self.rejects["floor"] = 0
+        elif took["floor_rejected"] and not took["airborne"]:
+            self.rejects["floor"] += 1
+            if self.rejects["floor"] >= self.max_rejects and self._floor is not None:
+                self._keep_body()
+                self._start(*self._from_floor(self._floor))
+                self.t_read = self.t_floor = t
+        if good_shirt and not took["shirt"]:
+            self.rejects["shirt"] += 1
+            if self.rejects["shirt"] >= self.max_rejects:  # the shirt was right
+                assert shirt is not None
+                self._keep_body()
+                self._start(*self._from_shirt(shirt))
+                self.t = self.t_read = t
+        elif took["shirt"]:
+            self.rejects["shirt"] = 0

@@ -109,6 +109,11 @@ class ColorShirtOptions:
       the filter's depth with the std ``depth_pin_std`` (m; the filter already
       weighed the shirt's size); the filter's own std is reported per frame as
       ``depth_std``.
+    * ``stance_cue``: the filter also reads the root's height on the ray through
+      where the fit sees it: a player standing on the floor holds the root at
+      the legs' length, which ties the player's size to the depth without the
+      feet (the camera's calibrated height is the ruler) and tells when the feet
+      leave the floor (their floor readings are then left out).
     * ``head_cue``: in every camera, the head found in the plate's foreground above
       the collar constrains the head joint in the IK (beyond the paper; needs the
       plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
@@ -188,9 +193,10 @@ class ColorShirtOptions:
     floor_offset: float = 0.11
     floor_std: float = 0.05
     depth_accel: float = 3.0
-    shirt_depth_std: float = 0.08
+    shirt_depth_std: float = 0.15
     body_scale_std: float = 0.06
     depth_pin_std: float = 0.01
+    stance_cue: bool = True
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
