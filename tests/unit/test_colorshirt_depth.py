@@ -154,3 +154,28 @@ def test_floor_readings_of_feet_in_the_air_are_left_out_as_the_root_rises() -> N
         if up > 0.1:
             assert f.airborne and f.rejected
         f.end(t, 3.0, _ray(3.0, h0 + up))
+
+
+def test_the_feet_and_the_stance_tell_the_players_size_from_the_shirts_own_bias() -> None:
+    # a player 7% smaller than the reference whose shirt also reads 8% small (the
+    # mesh against her torso): the feet fix the depth, the stance the size (up to
+    # her stance, which it cannot tell from her size: the std says so), the
+    # shirt's bias is its own, and the shirt then holds the depth alone
+    h0, s, e = 0.93, 0.93, 0.08
+    f = RootDepthFilter(shirt_bias=0.0, standing_height=h0)
+    for k in range(150):
+        f.begin(0, k / 30, 3.0)
+        f.end(k / 30, 3.0 / (s * (1 + e)), _ray(3.0, s * h0))
+    size, size_std = f.scale()
+    assert abs(size - s) < 2 * size_std < 0.08 and size < 0.97  # nearer 0.93 than 1
+    errors = []
+    for k in range(150, 210):  # the feet vanish, the player walks in at 0.5 m/s
+        t = k / 30
+        depth = 3.0 - 0.5 * (t - 5.0)
+        f.begin(0, t, None)
+        post = f.posterior(depth / (s * (1 + e)), _ray(depth, s * h0))
+        assert post is not None
+        errors.append(abs(post[0] - depth))
+        assert errors[-1] < 2 * post[1]  # the floor's bias (8 cm) is still unknown
+        f.end(t, depth / (s * (1 + e)), _ray(depth, s * h0))
+    assert max(errors[-10:]) < 0.04

@@ -24,11 +24,13 @@ the root's depth ``d`` along the camera's axis, each with a stated noise:
   stands higher than the legs are long).
 
 :class:`RootDepthFilter` combines them in one Kalman filter (filterpy) on
-``[depth, depth speed, body scale, floor bias, stance bias]``. The size and the
-depth are coupled in two of the three readings: the shirt reads ``d / s``
-(linearized about the state: an extended Kalman filter) and the stance
-``c_y + r d = s h0 + b_h``. The two biases are what no number of readings
-averages away, so the reported uncertainty never falls below them: ``b_f``,
+``[depth, depth speed, body scale, floor bias, stance bias, shirt bias]``. The
+size and the depth are coupled in two of the three readings: the shirt reads
+``d / (s (1 + e))`` (linearized about the state: an extended Kalman filter;
+``e`` is the shirt's own bias per player, beyond the size: the generic mesh
+against the player's torso) and the stance ``c_y + r d = s h0 + b_h``. The
+biases are what no number of readings averages away, so the reported
+uncertainty never falls below them: ``b_f``,
 where the lowest pixel of a foot lies relative to the pelvis in this player's
 stance (toes towards the camera, a bow that moves the pelvis back; prior
 ``floor_bias_std``), and ``b_h``, how far this player's root stands from the
@@ -40,8 +42,9 @@ two are one-sided: feet and a root that leave the floor do so upwards only. A
 floor reading further than predicted by more than one standard deviation of
 the innovation is left out (a hop's rising feet passed the symmetric gate a
 little at a time and dragged the depth 16 cm too far), and so is one at whose
-depth the root would stand higher than the legs are long by more than one
-standard deviation (the feet are in the air: the validation's hop clips); a
+depth the root would stand higher than the legs are long by more than two
+standard deviations (``air_gate``: the feet are in the air, the validation's
+hop clips); a
 stance reading that puts the root that high is left out too (a jump), and one
 far below standing (a crouch) by ``gate``. A player who really walks away is
 followed through the shirt's and the stance's readings, or after
@@ -81,8 +84,8 @@ class RootRay:
 
 @dataclass
 class RootDepthFilter:
-    """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias]``
-    along a lone camera's axis (see the module docstring).
+    """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias,
+    shirt bias]`` along a lone camera's axis (see the module docstring).
 
     ``accel``: std of the root's acceleration along the axis (m/s², white noise);
     ``floor_std``: std of a floor reading (m); ``shirt_std``: std of the shirt's
@@ -91,8 +94,12 @@ class RootDepthFilter:
     of the floor readings' common bias (m); ``standing_height``: the reference
     body's standing root height ``h0`` (m; 0: no stance reading);
     ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
-    of this player's stance bias (m); ``gate``: squared innovation, in variances,
-    beyond which a reading is left out; after ``max_rejects`` rejected floor
+    of this player's stance bias (m); ``shirt_bias``, ``shirt_bias_std``: the prior
+    mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``;
+    tune half: clip means -6% to +12%, mean +3%); ``gate``: squared innovation, in
+    variances, beyond which a reading is left out (``air_gate`` above standing:
+    a stance reading further above, and a floor reading whose depth puts the
+    root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
     readings in a row the depth restarts from the reading (it, not the
     prediction, was right); ``horizon``: seconds without a reading after which the
     depth lapses (the learned scale and biases stay).
