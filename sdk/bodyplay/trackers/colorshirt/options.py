@@ -107,8 +107,9 @@ class ColorShirtOptions:
       depth); readings more than 3 standard deviations from the prediction
       (feet off the floor, a wrong fit) are left out. The IK holds the root at
       the filter's depth with the std ``depth_pin_std`` (m; the filter already
-      weighed the shirt's size); the filter's own std is reported per frame as
-      ``depth_std``.
+      weighed the shirt's size) once the feet told it; the filter's std,
+      combined with how far the reported root departs from the filter's depth,
+      is reported per frame as ``depth_std``.
     * ``stance_cue``: the filter also reads the root's height on the ray through
       where the fit sees it: a player standing on the floor holds the root at
       the legs' length, which ties the player's size to the depth without the
