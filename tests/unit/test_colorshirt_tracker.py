@@ -22,7 +22,6 @@ from bodyplay.trackers.colorshirt import (
     options_with_overrides,
 )
 from bodyplay.trackers.colorshirt.database import build_database
-from bodyplay.trackers.colorshirt.views import share_light_change
 
 SK = Skeleton()
 
@@ -205,24 +204,6 @@ def test_options_reject_a_room_margin_outside_zero_to_one() -> None:
 def test_options_reject_a_non_positive_max_speed() -> None:
     with pytest.raises(ConfigError, match="max_speed"):
         ColorShirtOptions(max_speed=0.0)
-
-
-def test_a_light_change_seen_by_one_camera_is_passed_to_one_that_lost_the_shirt(db) -> None:  # type: ignore[no-untyped-def]
-    tr = create_colorshirt_tracker(ColorShirtOptions(body="m"), webcam_rig(2), database=db)
-    W0 = np.diag([0.95, 1.05, 1.0])
-    W1 = np.diag([1.1, 0.9, 1.05])
-    M = np.diag([1.4, 1.3, 1.1])  # the warm lamp went off
-    for st, W in zip(tr._cams, (W0, W1), strict=True):
-        st.W = W.copy()
-        st.last_fraction = 0.7
-    tr._cams[0].W = M @ W0  # camera 0 found its new W this frame
-    share_light_change(tr._cams, [W0, W1], seen={0}, retry_fraction=0.4)
-    assert np.allclose(tr._cams[1].W, M @ W1)
-    # a camera that still classifies the shirt well keeps its own W
-    tr._cams[1].W = W1.copy()
-    tr._cams[1].last_fraction = 0.7
-    share_light_change(tr._cams, [W0, W1], seen={0, 1}, retry_fraction=0.4)
-    assert np.allclose(tr._cams[1].W, W1)
 
 
 def test_option_overrides_convert_strings_to_each_fields_type() -> None:

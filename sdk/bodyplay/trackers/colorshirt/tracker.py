@@ -61,7 +61,7 @@ from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
 from bodyplay.trackers.colorshirt.prediction import PoseRenderer, RenderedPose
 from bodyplay.trackers.colorshirt.report import pose_result
-from bodyplay.trackers.colorshirt.views import CameraView, share_light_change
+from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
@@ -189,7 +189,6 @@ class ColorShirtTracker:
             )
         self._last_t = frames.t
         check_frame_set(frames, self.cameras)
-        before = [None if st.W is None else st.W.copy() for st in self._cams]
         tracked = [st for st in self._cams if st.last_box is not None]
         if (tracked and not self._good
                 and all(st.still >= self.options.still_frames for st in tracked)):
@@ -211,11 +210,6 @@ class ColorShirtTracker:
         views = [v for i, fr in enumerate(frames)
                  if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))
                  is not None]
-        if self.options.adaptive_white_balance:
-            M = share_light_change(self._cams, before, {v.index for v in views},
-                                   self.options.retry_fraction)
-            if M is not None:
-                self.diagnostics["light_change"] = M
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         root_height = (float(self._prev[1]) if self._prev is not None

@@ -2,9 +2,8 @@
 between frames (:class:`CameraState`), one camera's share of a frame
 (:class:`CameraView`: crop, classification, database query), the clean-up of a
 classification (:func:`clean_ids`) and the normalized database query
-(:func:`make_query`), the per-camera white balance and classification
-(:func:`classify_camera`), and passing a change of light from one camera to the
-others (:func:`share_light_change`).
+(:func:`make_query`), and the per-camera white balance and classification
+(:func:`classify_camera`).
 """
 
 from __future__ import annotations
@@ -33,14 +32,11 @@ if TYPE_CHECKING:
     from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 
 __all__ = ["CameraState", "CameraView", "WHITE_ID", "WHITE_PATCHES", "classify_camera",
-           "clean_ids", "make_query", "prior_penalty_slope", "share_light_change"]
+           "clean_ids", "make_query", "prior_penalty_slope"]
 
 _MAX_NOISE_GROWTH = 2.5
 """The noise-aware classification is kept unless it finds this many times the pixels
 of the plain one (then background is creeping in)."""
-
-LIGHT_JUMP = 0.25
-"""Frobenius change of a camera's ``W`` within one frame that counts as a light change."""
 
 WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
 """The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
@@ -224,42 +220,6 @@ def make_query(view: CameraView, database: PoseDatabase, lo: NDArray[np.float64]
     nb = db.query(query)
     view.neighbours = nb
     view.distance = float(nb.distance[0])
-
-
-def share_light_change(states: list[CameraState], before: list[NDArray[np.float64] | None],
-                       seen: set[int], retry_fraction: float) -> NDArray[np.float64] | None:
-    """Pass a sudden change of light seen by one camera on to those that lost the shirt.
-
-    Every camera looks at the same shirt under the same lamps: with ``W_c = R
-    L^-1 A_c^-1`` (camera response ``A_c``, illuminant ``L``) a change of light
-    multiplies every camera's ``W`` on the left by the same ``M = W_d' W_d^-1``.
-    When a camera re-chose its ``W`` this frame (a jump of more than
-    :data:`LIGHT_JUMP` in Frobenius norm from ``before``) and another camera kept
-    its ``W`` but found no shirt (not in ``seen``) or classified under
-    ``retry_fraction`` of it, the latter starts the next frame from ``M W``
-    instead of waiting frames for its own search to succeed in the new light.
-    Returns ``M`` (None when no camera's light changed).
-    """
-    jumps = []
-    for d in seen:
-        old, new = before[d], states[d].W
-        if old is not None and new is not None:
-            jump = float(np.linalg.norm(new - old))
-            if jump > LIGHT_JUMP:
-                jumps.append((jump, new @ np.linalg.inv(old)))
-    if not jumps:
-        return None
-    M: NDArray[np.float64] = max(jumps, key=lambda j: j[0])[1]
-    for i, st in enumerate(states):
-        prior_W = before[i]
-        if st.W is None or prior_W is None or float(np.linalg.norm(st.W - prior_W)) > LIGHT_JUMP:
-            continue
-        struggling = st.last_fraction is not None and st.last_fraction < retry_fraction
-        if i not in seen or struggling:
-            st.W = M @ st.W
-            st.references.add(st.W)
-            st.last_fraction = None
-    return M
 
 
 def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.bool_] | None,
