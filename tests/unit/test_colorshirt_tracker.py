@@ -290,5 +290,3 @@ def test_options_reject_a_gate_that_cannot_hold_the_shirt() -> None:
         ColorShirtOptions(gate_time=0.0)
     with pytest.raises(ConfigError, match="gate_speed"):
         ColorShirtOptions(gate_speed=-1.0)
-    with pytest.raises(ConfigError, match="still_frames"):
-        ColorShirtOptions(still_frames=0)

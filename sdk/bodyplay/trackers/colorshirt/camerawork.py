@@ -50,9 +50,6 @@ __all__ = ["CameraWork"]
 _REDUCE = 2
 """Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
 
-_STILL_FRACTION = 0.01
-"""Below this share of changed pixels (MOG2) the tracked shirt's box counts as still."""
-
 _WARMUP = 1
 """Frames MOG2 learns before its mask is used: from the second frame on, what moved
 is foreground (with the torso's box, see :meth:`CameraWork.view`), so room clutter in
@@ -136,10 +133,6 @@ class CameraWork:
         if reduced is not None and o.room_plate:
             st.room.start(reduced)
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
-        if st.last_box is not None and o.background_subtraction:
-            moved = st.background.moving(st.last_box)
-            if moved is not None:
-                st.still = st.still + 1 if moved < _STILL_FRACTION else 0
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
         if reduced is not None and plate and not confirmed:

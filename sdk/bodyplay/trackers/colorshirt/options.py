@@ -67,10 +67,6 @@ class ColorShirtOptions:
       a second) of the shirt's box in the last pose reported, for ``gate_time``
       seconds after it; the search for the shirt starts there too, and the whole
       frame is searched after.
-    * ``still_frames``: after this many frames in a row in which the background
-      model saw nothing move in the tracked shirt's box in any camera, a track
-      whose last pose fitted poorly (above ``good_residual``) is taken for the room
-      (clutter in shirt colors) and the shirt is searched anew.
     * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
     * ``color_model``/``prior_model``: JSON files replacing the shipped models.
     * ``body``: body-shape preset of the generic skeleton and mesh (a name of
@@ -179,7 +175,6 @@ class ColorShirtOptions:
     max_speed: float = 5.0
     gate_time: float = 0.34
     gate_speed: float = 7.5
-    still_frames: int = 15
     max_mismatch: float = 0.5
     initial_white_balance: tuple[tuple[float, float, float], ...] | None = None
     color_model: str | None = None
@@ -251,8 +246,6 @@ class ColorShirtOptions:
         if not (np.isfinite(self.gate_speed) and self.gate_speed > 0):
             raise ConfigError("gate_speed must be a positive number of shirt sizes per second "
                               "(default 7.5)")
-        if self.still_frames < 1:
-            raise ConfigError("still_frames must be at least 1 (default 15 frames)")
         if not (np.isfinite(self.max_speed) and self.max_speed > 0):
             raise ConfigError("max_speed must be a positive speed in m/s (default 5)")
         if not 1 <= self.body_selection_frames <= 300:

@@ -189,23 +189,9 @@ class ColorShirtTracker:
             )
         self._last_t = frames.t
         check_frame_set(frames, self.cameras)
-        tracked = [st for st in self._cams if st.last_box is not None]
-        if (tracked and not self._good
-                and all(st.still >= self.options.still_frames for st in tracked)):
-            # nothing moved where a poorly fitting shirt is thought to be: a poster or
-            # clothes in shirt colors, not a player; forget it and search again (a
-            # player standing still is fitted well: the benchmark's dance clip ends
-            # still, and dropping its good fits lost 12 frames)
-            self.diagnostics["static"] = True
-            for st in self._cams:
-                st.gate = st.last_box = None
-            self._reported = None
-            self._prev = None
         for st in self._cams:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
-            if st.last_box is None:
-                st.still = 0
         confirmed = self._reported is not None
         views = [v for i, fr in enumerate(frames)
                  if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))

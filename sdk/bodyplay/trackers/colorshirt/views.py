@@ -71,8 +71,6 @@ class CameraState:
     """Image box of the shirt of the last pose reported (its projected mesh), at
     time ``gate_t``: the classification keeps only pixels near it."""
     gate_t: float = float("nan")
-    still: int = 0
-    """Frames in a row in which MOG2 saw nothing move in the tracked shirt's box."""
     room: RoomPlate = field(default_factory=RoomPlate)
     """The room learned from what the player uncovers (masks the classification)."""
     located: bool = False
