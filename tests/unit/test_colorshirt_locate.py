@@ -152,3 +152,17 @@ def test_background_mask_tells_whether_a_box_moved() -> None:
     bg.apply(moved)
     now = bg.moving(box)
     assert now is not None and now > 0.2
+
+
+def test_candidates_are_the_separate_colorful_regions_best_first() -> None:
+    rng = np.random.default_rng(9)
+    img = clutter(480, 640, rng)
+    paint_shirt(img, 60, 60, 30, rng)  # 120 x 150 px
+    paint_shirt(img, 420, 250, 24, rng)  # 96 x 120 px
+    found = ShirtLocator().candidates(img, count=4)
+    assert len(found) == 2  # the dull room has no third shirt-like region
+    centres = sorted((round(c.x), round(c.y)) for c in found)
+    assert abs(centres[0][0] - 120) < 20 and abs(centres[0][1] - 135) < 20
+    assert abs(centres[1][0] - 468) < 20 and abs(centres[1][1] - 310) < 20
+    assert found[0].uniformity >= found[1].uniformity
+    assert ShirtLocator().candidates(img, count=1)[0].x == pytest.approx(found[0].x)

@@ -33,16 +33,17 @@ def db():  # type: ignore[no-untyped-def]
 
 
 def _paint(q: np.ndarray, cams: tuple[Camera, ...], rng: np.random.Generator,
-           gains=(1.0, 1.0, 1.0)) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
+           gains=(1.0, 1.0, 1.0), rooms=None) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
+    """The body in pose ``q`` painted over a fresh clutter room per camera (or ``rooms``)."""
     mesh = body_mesh(SK)
     fid = np.where(mesh.face_part > 0, mesh.face_part, 21).astype(np.uint8)
     pal = np.zeros((256, 3), float)
     pal[:21] = patch_colors_rgb()
     pal[21] = (222, 171, 140)
     out = []
-    for cam in cams:
+    for k, cam in enumerate(cams):
         ids = render_idmaps(mesh.pose(SK, q)[None], mesh.faces, fid, cam)[0]
-        img = clutter(480, 640, rng).astype(float)
+        img = (clutter(480, 640, rng) if rooms is None else rooms[k]).astype(float)
         on = ids > 0
         shade = rng.uniform(0.85, 1.0, size=on.sum())[:, None]
         img[on] = pal[ids[on]] * shade * np.asarray(gains) + rng.normal(0, 3, (on.sum(), 3))
@@ -290,3 +291,60 @@ def test_options_reject_a_gate_that_cannot_hold_the_shirt() -> None:
         ColorShirtOptions(gate_time=0.0)
     with pytest.raises(ConfigError, match="gate_speed"):
         ColorShirtOptions(gate_speed=-1.0)
+
+
+def test_a_track_starts_on_the_upright_shirt_both_cameras_see_not_a_brighter_poster(
+        db) -> None:  # type: ignore[no-untyped-def]
+    """In view from the first frame, a poster in shirt colours low on the wall,
+    more colourful than the shirt, is where the histogram search looks first; the
+    start fits each camera's candidate regions and keeps the upright torso that
+    both cameras see (here without a background model: no motion to tell)."""
+    from colorshirt_paint import paint_shirt
+
+    cams = webcam_rig(2)
+    q = _truth(11)
+    errs = {}
+    for count in (1, 3):
+        images = _paint(q, cams, np.random.default_rng(4))
+        for img in images:  # the same poster low in both views, like a room photo
+            paint_shirt(img, 480, 330, 28, np.random.default_rng(5))
+        tr = create_colorshirt_tracker(
+            ColorShirtOptions(start_candidates=count, background_subtraction=False), cams,
+            database=db)
+        r = tr.process(_frameset(images, 0))
+        errs[count] = (np.inf if not r.found else
+                       float(np.linalg.norm(r.joints[:11] - SK.joint_positions(q)[:11],
+                                            axis=1).mean()))
+    assert errs[3] < 0.08 and errs[1] > 0.3, errs
+
+
+def test_a_track_starts_only_where_something_moved(db) -> None:  # type: ignore[no-untyped-def]
+    """With the background model, a start needs motion in a candidate's shirt box:
+    no pose on the first frame (nothing seen to move yet) nor in an empty room with
+    a poster in shirt colours, then the player as soon as they sway."""
+    from colorshirt_paint import paint_shirt
+
+    cams = webcam_rig(2)
+    rooms = [clutter(480, 640, np.random.default_rng(k)) for k in range(2)]
+    for room in rooms:
+        paint_shirt(room, 480, 330, 28, np.random.default_rng(5))
+    tr = create_colorshirt_tracker(ColorShirtOptions(), cams, database=db)
+    for i in range(3):
+        assert not tr.process(_frameset([r.copy() for r in rooms], i)).found
+    q = _truth(11)
+    rng = np.random.default_rng(4)
+    tr.reset()
+    for i in range(2):  # the player sways 2 cm
+        qi = q.copy()
+        qi[0] += 0.02 * i
+        r = tr.process(_frameset(_paint(qi, cams, rng, rooms=rooms), i))
+        assert r.found == (i == 1)
+    err = np.linalg.norm(r.joints[:11] - SK.joint_positions(qi)[:11], axis=1).mean()
+    assert err < 0.08
+
+
+def test_options_reject_no_start_candidates_or_an_empty_root_band() -> None:
+    with pytest.raises(ConfigError, match="start_candidates"):
+        ColorShirtOptions(start_candidates=0)
+    with pytest.raises(ConfigError, match="start_root_band"):
+        ColorShirtOptions(start_root_band=(1.2, 0.8))

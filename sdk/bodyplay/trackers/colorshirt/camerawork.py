@@ -11,6 +11,7 @@ choice) is :mod:`.tracker`'s.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 
 import cv2
@@ -23,7 +24,7 @@ from bodyplay.trackers.colorshirt.anchors import Observed
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
-from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocator
+from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocation, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.prediction import (
     CropWindow,
@@ -50,6 +51,10 @@ __all__ = ["CameraWork"]
 _REDUCE = 2
 """Downscale of the frame MOG2 and the floor cue's plate both work on (they share it)."""
 
+_MOVED = 0.01
+"""Share of a start candidate's shirt box that MOG2 must see change for it to have
+moved (a player sways; a poster in shirt colours does not: 0-0.4%)."""
+
 _WARMUP = 1
 """Frames MOG2 learns before its mask is used: from the second frame on, what moved
 is foreground (with the torso's box, see :meth:`CameraWork.view`), so room clutter in
@@ -72,6 +77,14 @@ def _image_box(cam: Camera, points: NDArray[np.float64]
         return None
     lo, hi = uv.min(axis=0), uv.max(axis=0)
     return int(lo[0]), int(lo[1]), int(np.ceil(hi[0])), int(np.ceil(hi[1]))
+
+
+def _ids_box(view: CameraView) -> tuple[int, int, int, int]:
+    """Image box of ``view``'s pixels classified as the shirt's colours (not white)."""
+    ys, xs = np.nonzero((view.ids > 0) & (view.ids != WHITE_ID))
+    lo = view.window.to_image(np.array([xs.min(), ys.min()], float))
+    hi = view.window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
+    return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
 
 class CameraWork:
@@ -122,6 +135,19 @@ class CameraWork:
         ``confirmed``: whether the tracker holds a pose reported (until one is,
         the floor cue's plate takes the shirt-like region for possible clutter).
         """
+        found = self.views(i, st, image, t, confirmed, 1)
+        return found[0] if found else None
+
+    def views(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
+              confirmed: bool, count: int) -> list[CameraView]:
+        """Camera ``i``'s candidate views of the frame at ``t``, best located first.
+
+        With ``count`` 1, or while the shirt is tracked (a search box), the one
+        region the histogram search finds; else up to ``count`` shirt-like regions
+        of the whole frame (:meth:`ShirtLocator.candidates`), each classified with
+        its own white balance and matched to the database: the tracker chooses
+        (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
+        """
         o = self.options
         maps = self._undistort[i]
         if maps is not None:
@@ -162,6 +188,7 @@ class CameraWork:
                                   interpolation=cv2.INTER_NEAREST) > 0
                 mask[sl] |= seen[sl]
         room = st.room.foreground() if o.room_plate else None
+        full = None
         if room is not None:  # pixels the room plate knows as room are not the player
             full = cv2.resize(room.astype(np.uint8), (image.shape[1], image.shape[0]),
                               interpolation=cv2.INTER_NEAREST) > 0
@@ -171,10 +198,53 @@ class CameraWork:
             bx0, by0, bx1, by1 = st.last_box
             reach = _SEARCH_REACH * max(bx1 - bx0, by1 - by0)
             region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
-        loc = self.locator.locate(image, mask, region)
-        st.located = loc.found
-        if not loc.found:
+        if count <= 1 or region is not None:
+            loc = self.locator.locate(image, mask, region)
+            st.located = loc.found
+            if not loc.found:
+                return []
+            view = self._view_at(i, st, image, mask, loc, t)
+            if view is not None:
+                self.commit(st, view, confirmed)
+            return [] if view is None else [view]
+        # MOG2's mask holds only what moved since the last frame, a player's moving
+        # parts: the candidates see every pixel but those the room plate knows
+        # (the tracker asks MOG2 whether each moved, :meth:`moved`)
+        locs = self.locator.candidates(image, full, count)
+        st.located = bool(locs)
+        out = []
+        for loc in locs:  # each with the white balance it would choose alone
+            trial = dataclasses.replace(st, references=copy.deepcopy(st.references))
+            view = self._view_at(i, trial, image, full, loc, t)
+            if view is not None:
+                view.state = trial
+                out.append(view)
+        return out
+
+    def moved(self, st: CameraState, view: CameraView) -> bool | None:
+        """Whether MOG2 saw this frame change within ``view``'s shirt (its classified
+        pixels' box): a player moves, a poster does not (None: no background model,
+        or still learning its first frame)."""
+        if not self.options.background_subtraction:
             return None
+        share = st.background.moving(_ids_box(view))
+        return None if share is None else share >= _MOVED
+
+    def commit(self, st: CameraState, view: CameraView, confirmed: bool) -> None:
+        """``view`` (of :meth:`views`) is the shirt: its camera keeps what it chose."""
+        if view.state is not None:
+            st.W, st.last_fraction = view.state.W, view.state.last_fraction
+            st.references = view.state.references
+            view.state = None
+        if self.options.floor_cue or self.options.head_cue:
+            st.floor.shirt_at(_ids_box(view), confirmed=confirmed)
+
+    def _view_at(self, i: int, st: CameraState, image: NDArray[np.uint8],
+                 mask: NDArray[np.bool_] | None, loc: ShirtLocation, t: float
+                 ) -> CameraView | None:
+        """Crop, classification and database match of the shirt located at ``loc``."""
+        o = self.options
+        plate = o.floor_cue or o.head_cue
         gate = self._gate_box(st, t)
         if gate is not None and not (gate[0] <= loc.x <= gate[2] and gate[1] <= loc.y <= gate[3]):
             return None  # not where the shirt can be: leave W and the plate alone
@@ -221,12 +291,6 @@ class CameraWork:
         hi = np.array([xs.max(), ys.max()], float) + 1.0
         extent = float(np.max(hi - lo))
         view = CameraView(i, window, crop, cmask, W, ids, extent)
-        ys, xs = np.nonzero((ids > 0) & (ids != WHITE_ID))
-        blo = window.to_image(np.array([xs.min(), ys.min()], float))
-        bhi = window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
-        if plate:
-            st.floor.shirt_at((int(blo[0]), int(blo[1]), int(bhi[0]), int(bhi[1])),
-                              confirmed=confirmed)
         make_query(view, self.database, lo, hi)
         return view
 

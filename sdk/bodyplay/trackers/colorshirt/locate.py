@@ -222,13 +222,42 @@ class ShirtLocator:
                                          True)
         return self._locate(image, mask, image.shape[0])
 
+    def candidates(self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
+                   count: int = 3) -> list[ShirtLocation]:
+        """Up to ``count`` shirt-like regions of the whole frame, best first, each
+        found as :meth:`locate` finds the best after the windows overlapping the
+        regions before it are left out (only those found: ``uniformity`` at least
+        ``min_uniformity``). A start with the player in view has no background
+        mask: a poster or a fruit bowl can be more colorful than the shirt, and
+        the tracker judges the candidates in 3-D and by their classification."""
+        maps = self.uniformity_maps(image, mask, image.shape[0])
+        out: list[ShirtLocation] = []
+        for _ in range(count):
+            loc = self._average(maps, image.shape)
+            if not loc.found:
+                break
+            out.append(loc)
+            st = self.options.stride
+            for s, u in maps:  # leave out every window overlapping the one found
+                if not u.size:
+                    continue
+                ys, xs = np.indices(u.shape)
+                reach = 0.5 * (s * st + loc.scale)
+                u[(np.abs((xs + 0.5 * s) * st - loc.x) < reach)
+                  & (np.abs((ys + 0.5 * s) * st - loc.y) < reach)] = 0.0
+        return out
+
     def _locate(self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None,
                 frame_height: int) -> ShirtLocation:
+        return self._average(self.uniformity_maps(image, mask, frame_height), image.shape)
+
+    def _average(self, maps: list[tuple[int, NDArray[np.float32]]],
+                 shape: tuple[int, ...]) -> ShirtLocation:
+        """The weighted average of the windows around the best one of ``maps``."""
         o = self.options
-        maps = self.uniformity_maps(image, mask, frame_height)
         u_max = max((float(u.max()) for _, u in maps if u.size), default=0.0)
         if u_max <= 0.0:
-            return ShirtLocation(image.shape[1] / 2, image.shape[0] / 2, 0.0, 0.0, False)
+            return ShirtLocation(shape[1] / 2, shape[0] / 2, 0.0, 0.0, False)
         sigma = 0.1 * u_max
         # the best window: the average is taken over the windows overlapping it only,
         # so that a second colorful region elsewhere (a poster, a fruit bowl, clothes

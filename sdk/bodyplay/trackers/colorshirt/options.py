@@ -148,6 +148,17 @@ class ColorShirtOptions:
       body presets, and override the speed gate (two good fits in a row that agree
       with each other take over from a pose reported before them that they are
       too far from).
+    * ``start_candidates``: with two cameras or more, whenever no camera tracks
+      the shirt (the start, after ``gate_time`` without a pose, or a track dropped
+      as the room), the histogram search keeps up to this many shirt-like regions
+      per camera, each classified without MOG2's mask. Every combination of one
+      region (or none) per camera is a hypothesis; it counts only if MOG2 saw
+      motion in each of its regions (with ``background_subtraction``) and its fit
+      is plausible with the root within ``start_root_band`` (fractions of the
+      body's standing pelvis height: the player starts upright); the track
+      starts on the one with the most cameras, then the lowest residual. A
+      poster or a fruit bowl more colorful than the shirt does not move and fits
+      no upright torso that both cameras see. 1: the most colorful region only.
     """
 
     adaptive_white_balance: bool = True
@@ -207,6 +218,8 @@ class ColorShirtOptions:
     room_plate: bool = True
     room_margin: float = 0.1
     good_residual: float = 0.09
+    start_candidates: int = 3
+    start_root_band: tuple[float, float] = (0.6, 1.3)
     plate_mask_alone_cameras: int = 1
     locate: LocateOptions = field(default_factory=LocateOptions)
 
@@ -233,6 +246,12 @@ class ColorShirtOptions:
                 raise ConfigError(f"{name} must be a fraction within [0, 1), got {value}")
         if not 1 <= self.min_colors <= 10:
             raise ConfigError("min_colors must be between 1 and 10")
+        if self.start_candidates < 1:
+            raise ConfigError("start_candidates must be at least 1 (default 3)")
+        lo, hi = self.start_root_band
+        if not 0 <= lo < hi:
+            raise ConfigError("start_root_band must be (low, high) fractions of the standing "
+                              "pelvis height with 0 <= low < high (default (0.6, 1.3))")
         if not 0 < self.max_mismatch <= 1:
             raise ConfigError("max_mismatch must be within (0, 1]")
         if self.body != "auto" and self.body not in BODY_SHAPES:

@@ -18,6 +18,7 @@ the tracker never invents a pose.
 from __future__ import annotations
 
 import copy
+import itertools
 import time
 from dataclasses import dataclass
 from typing import cast
@@ -193,9 +194,12 @@ class ColorShirtTracker:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
         confirmed = self._reported is not None
-        views = [v for i, fr in enumerate(frames)
-                 if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))
-                 is not None]
+        if self._starting():
+            views = self._start_views(frames, confirmed)
+        else:
+            views = [v for i, fr in enumerate(frames)
+                     if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))
+                     is not None]
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         root_height = (float(self._prev[1]) if self._prev is not None
@@ -259,6 +263,58 @@ class ColorShirtTracker:
             self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")),
                             cast("RootRay | None", self.diagnostics.get("root_ray")))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
+
+    # ---- start-up: where the player is ---------------------------------------------
+    def _starting(self) -> bool:
+        """Whether the next frame starts a track: no camera tracking the shirt (none
+        reported yet, lost for ``gate_time``, or dropped as the room), with several
+        cameras."""
+        return (self.options.start_candidates > 1 and len(self.cameras) > 1
+                and all(st.last_box is None for st in self._cams))
+
+    def _start_views(self, frames: FrameSet, confirmed: bool) -> list[CameraView]:
+        """The views a track starts from (``start_candidates``): of every
+        combination of one candidate region (or none) per camera, the one whose
+        fit with the body in use counts the most cameras, then fits best, among
+        those where MOG2 saw each region move, plausible (:meth:`_plausible`) and
+        upright (root within ``start_root_band`` of the standing pelvis height).
+
+        With the player in view from the first frame there is no background
+        mask: the most colorful region can be a poster or a fruit bowl, which
+        neither moves nor fits an upright torso that both cameras see. None
+        qualifies (the first frame: no motion seen yet): no pose, the next frame
+        tries again, and a camera whose candidates were all rejected lets the
+        room plate learn the frame as it does in an empty room.
+        """
+        o = self.options
+        cands = [self._work.views(i, self._cams[i], fr.image, frames.t, confirmed,
+                                  o.start_candidates) for i, fr in enumerate(frames)]
+        cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
+        moved = {id(v): self._work.moved(self._cams[v.index], v) for c in cands for v in c}
+        lo, hi = (f * self.skeleton.pelvis_height for f in o.start_root_band)
+        best: tuple[tuple[int, float], list[CameraView]] | None = None
+        saved, self._lone = self._lone, None  # judged without the depth filter
+        for combo in itertools.product(*[[*c, None] for c in cands]):
+            chosen = [v for v in combo if v is not None]
+            if not chosen or (o.background_subtraction
+                              and not all(moved[id(v)] for v in chosen)):
+                continue  # a camera saw nothing move there (or no motion yet)
+            self.diagnostics = {}
+            fit = self._estimate([copy.copy(v) for v in chosen], None)
+            if (not np.isfinite(fit.residual) or not lo <= fit.q[1] <= hi
+                    or not self._plausible(fit.q, fit.views)):
+                continue
+            key = (-len(chosen), fit.residual)
+            if best is None or key < best[0]:
+                best = (key, chosen)
+        self._lone = saved
+        self.diagnostics = {}
+        chosen = [] if best is None else best[1]
+        for i, st in enumerate(self._cams):  # a camera whose candidates were all the
+            st.located = any(v.index == i for v in chosen)  # room: the plate learns it
+        for v in chosen:
+            self._work.commit(self._cams[v.index], v, confirmed)
+        return chosen
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> _Fit | None:

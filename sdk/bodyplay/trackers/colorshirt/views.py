@@ -97,6 +97,8 @@ class CameraView:
     distance: float = 1.0
     neighbours: object | None = None
     patch_ids: NDArray[np.uint8] | None = None
+    state: CameraState | None = None
+    """A start candidate's camera state (its white balance) until it is chosen."""
 
 
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
