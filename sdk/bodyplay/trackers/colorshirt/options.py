@@ -149,8 +149,8 @@ class ColorShirtOptions:
       with each other take over from a pose reported before them that they are
       too far from).
     * ``start_candidates``: with two cameras or more, whenever no camera tracks
-      the shirt (the start, after ``gate_time`` without a pose, or a track dropped
-      as the room), the histogram search keeps up to this many shirt-like regions
+      the shirt (the start, or after ``gate_time`` without a pose), the
+      histogram search keeps up to this many shirt-like regions
       per camera, each classified without MOG2's mask. Every combination of one
       region (or none) per camera is a hypothesis; it counts only if MOG2 saw
       motion in each of its regions (with ``background_subtraction``) and its fit

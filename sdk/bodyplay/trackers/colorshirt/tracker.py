@@ -267,8 +267,7 @@ class ColorShirtTracker:
     # ---- start-up: where the player is ---------------------------------------------
     def _starting(self) -> bool:
         """Whether the next frame starts a track: no camera tracking the shirt (none
-        reported yet, lost for ``gate_time``, or dropped as the room), with several
-        cameras."""
+        reported yet, or lost for ``gate_time``), with several cameras."""
         return (self.options.start_candidates > 1 and len(self.cameras) > 1
                 and all(st.last_box is None for st in self._cams))
 
