@@ -26,14 +26,14 @@ def test_tracked_wrists_follow_the_virtual_keepers_reaches(synth_gl) -> None:
             while pending and pending[0][0] <= t + 1e-9:  # the game, between frames
                 _, arrival, point = pending.pop(0)
                 keeper.set_target(arrival, point, now=t)
-            if ev is None or src.truth is None:
-                continue
+            if ev is None or src.truth is None or not np.isfinite(ev.joints[[7, 10]]).all():
+                continue  # the first frame: a start waits for motion (colorshirt.md)
             e = np.linalg.norm(ev.joints[[7, 10]] - src.truth[[7, 10]], axis=1)
             err.append(e)
             if any(abs(t - b[1]) < 0.05 for b in BALLS):
                 reach_err.append(e)
     err_a = np.asarray(err)
-    assert len(err_a) >= 40  # every frame tracked
+    assert len(err_a) >= 40  # every frame tracked but the first
     assert float(np.median(err_a)) < 0.08, np.median(err_a, axis=0)
     # at each ball's arrival the reaching wrist is tracked where it is
     assert len(reach_err) >= 4
