@@ -96,7 +96,9 @@ class RootDepthFilter:
     ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
     of this player's stance bias (m); ``shirt_bias``, ``shirt_bias_std``: the prior
     mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``;
-    tune half: clip means -6% to +12%, mean +3%); ``gate``: squared innovation, in
+    tune half: clip means -6% to +12%, mean +3%; the prior mean is 0: with +3%
+    the ninja's colour-shirt game missed a hit, and the validation report half is
+    the same within its noise either way); ``gate``: squared innovation, in
     variances, beyond which a reading is left out (``air_gate`` above standing:
     a stance reading further above, and a floor reading whose depth puts the
     root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
@@ -117,7 +119,7 @@ class RootDepthFilter:
     stance_std: float = 0.04
     air_gate: float = 4.0
     stance_bias_std: float = 0.03
-    shirt_bias: float = 0.03
+    shirt_bias: float = 0.0
     shirt_bias_std: float = 0.05
     camera: int | None = None
     t: float = float("nan")
