@@ -71,6 +71,9 @@ class BackgroundOptions:
     guess_expiry: int = 30
     resolve_outside: int | None = 10
     learn_away: int = 12
+    start_wait: int = 15
+    start_join: float = 0.02
+    start_reach: float | None = None
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -286,6 +289,7 @@ class SilhouetteOptions:
     depth_window: float = 0.4
     max_recession: float = 0.5
     bootstrap_time: float = 1.0
+    restart_within: float = 1.0
     smooth: float = 0.5
     protect_radius: float = 0.12
     beta: float = 5.0

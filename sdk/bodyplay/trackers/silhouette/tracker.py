@@ -182,6 +182,7 @@ class SilhouetteTracker:
                                np.uint8)
         stages: dict[str, float] = {}
         tic = time.perf_counter()
+        self._undo_failed_start(frames.t)
         protect = self._last.protect if self._last is not None else None
         sil = self.background.apply(image, protect)
         stages["background"] = time.perf_counter() - tic
@@ -267,6 +268,29 @@ class SilhouetteTracker:
         stages["output"] = time.perf_counter() - tic
         result.extras["stages"] = stages
         return result
+
+    def _undo_failed_start(self, t: float) -> None:
+        """A start that did not hold is no track: when the person is lost (no pose for
+        ``lost_after`` s) after a track that lasted under ``restart_within`` s, the
+        tracker starts over as if it had never seen anyone (the background model is
+        kept, but nothing is protected, so the still body under what moves is held
+        again and the distance may come from the shape). A wrong first pose (the
+        arms of a player who stands still, taken for a whole person metres away)
+        otherwise protected its own spot and was never replaced."""
+        last, started = self._last, self._started
+        if (last is None or started is None or not self.options.restart_within
+                or t - last.t <= self.options.lost_after
+                or last.t - started >= self.options.restart_within):
+            return
+        self._last = None
+        self._started = None
+        self._distance = None
+        self._depths = []
+        self._shape_ds = []
+        self._shape_d = None
+        self._bad = 0
+        for f in self._filters.values():
+            f.reset()
 
     def _from_shape(self, sil: Silhouette, seen: ObservedWindow | None
                     ) -> tuple[ObservedWindow | None, bool]:
