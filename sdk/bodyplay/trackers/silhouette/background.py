@@ -283,15 +283,14 @@ class BackgroundModel:
                              else np.zeros(x.shape[:2], bool))
             self._was_diff = np.zeros(x.shape[:2], bool)
             self._stirred = np.zeros(x.shape[:2], bool)
-            self._start_motion = np.zeros(x.shape[:2], bool)
-            self.envelope = np.zeros(x.shape[:2], bool)
             self.player = None
             # without a first guess there is nothing to resolve: unknown stays "don't care"
             self._resolving = bool(o.resolve_every and self.occupied.any())
             if self._resolving:
-                # outside the first frame's guess (and its envelope), what the camera
-                # sees is the background
-                self.known = ~self._grown(self.occupied)
+                # outside the first frame's guess, what the camera sees is the background
+                r = o.guess_margin
+                k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
+                self.known = ~(cv2.dilate(self.occupied.astype(np.uint8), k) > 0)
         assert self._var is not None and self._prev is not None and self._still is not None
         assert self.known is not None
         differs = np.zeros(x.shape[:2], np.uint8)
@@ -303,10 +302,6 @@ class BackgroundModel:
         # what moved this frame, single noisy pixels dropped
         stir = cv2.morphologyEx(moved, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)) > 0
         self.motion = float(stir.mean())
-        if o.start_wait and self._frames <= o.start_wait:
-            self._start_motion |= stir
-            if self._frames == o.start_wait and self._resolving:
-                self._rechoose(image, x.shape[1::-1], differs)
         if (self._resolving and self._frames % o.resolve_every == 0
                 and not self.known.all()):
             self._resolve(image, x.shape[1::-1], differs,
@@ -356,68 +351,6 @@ class BackgroundModel:
         if self.held is not None:  # where the player has moved (the feet, once) counts too
             region |= (self._stirred & ~self.known).astype(np.uint8)
         return Silhouette(fg, unknown, x.shape[1] / image.shape[1], region)
-
-    def _grown(self, guess: NDArray[np.bool_],
-               motion: NDArray[np.bool_] | None = None) -> NDArray[np.bool_]:
-        """The guess, its envelope (sets :attr:`envelope`) and ``guess_margin`` around:
-        what is not known background from the first frame. The envelope is the pixels
-        under and beside the guess and what has moved (each column from its highest
-        such pixel down, widened by ``start_reach``, :func:`_below`): a first-frame
-        GrabCut leaves out a torso or legs in the colours of the room behind them,
-        but a standing player's body is under the head and the arms."""
-        o = self.options
-        grow = guess
-        if o.start_reach is not None and motion is not None:
-            h, w = guess.shape
-            reach = max(1, int(round(o.start_reach * min(h, w))))
-            seed = guess if motion is None else guess | motion
-            self.envelope = _below(seed, reach) & ~guess
-            rows = np.flatnonzero(guess.any(axis=1))
-            if rows.size:  # not below the guess's feet: the floor there is no body
-                self.envelope[rows[-1] + 1:] = False
-            grow = guess | self.envelope
-        r = o.guess_margin
-        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
-        return np.asarray(cv2.dilate(grow.astype(np.uint8), k) > 0)
-
-    def _rechoose(self, image: NDArray[np.uint8], size: tuple[int, int],
-                  differs: NDArray[np.uint8]) -> None:
-        """``start_wait`` frames in: the first guess's parts that nothing moved in or
-        next to are not the player (a photo of a person, a pillar, a poster never
-        changes): they become known background, unless nothing of the guess moved;
-        and what moved extends the envelope (:meth:`_grown`). Only pixels that have
-        never differed from their first-frame value change side; then the unknown
-        pixels are resolved at once."""
-        o = self.options
-        assert self.known is not None
-        guess = self.occupied
-        h, w = guess.shape
-        motion = self._start_motion
-        if motion.any():  # drop specks: codec noise in a textured photo "moves" too
-            n, lab, stats, _ = cv2.connectedComponentsWithStats(motion.astype(np.uint8))
-            big = stats[:, cv2.CC_STAT_AREA] >= max(4, int(o.min_area * h * w))
-            big[0] = False
-            motion = big[lab]
-        chosen = guess
-        if motion.any():
-            r = max(1, int(round(o.start_join * min(h, w))))
-            k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
-            n, lab = cv2.connectedComponents(cv2.dilate(guess.astype(np.uint8), k))
-            touch = np.unique(lab[cv2.dilate(motion.astype(np.uint8),
-                                             np.ones((5, 5), np.uint8)) > 0])
-            keep = np.zeros(n, bool)
-            keep[touch] = True
-            keep[0] = False
-            if keep.any():
-                chosen = guess & keep[lab]
-        grow = self._grown(chosen, motion)
-        untouched = ~self._was_diff & (differs == 0)
-        newly = grow & self.known & untouched
-        self.known |= ~grow & ~self.known & untouched
-        self.known &= ~newly
-        self.occupied = chosen
-        if self.player is not None:  # the newly unknown pixels start as probably the player
-            self.player = (self.player | newly) & ~self.known
 
     def _expire(self, protect: NDArray[np.bool_]) -> None:
         """Still pixels resolved as the player that have stayed away from the

@@ -71,9 +71,6 @@ class BackgroundOptions:
     guess_expiry: int = 30
     resolve_outside: int | None = 10
     learn_away: int = 12
-    start_wait: int = 15
-    start_join: float = 0.02
-    start_reach: float | None = None
 
     def __post_init__(self) -> None:
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
@@ -290,6 +287,8 @@ class SilhouetteOptions:
     max_recession: float = 0.5
     bootstrap_time: float = 1.0
     restart_within: float = 1.0
+    restart_agree: float = 0.25
+    restart_doubt: float = 3.0
     smooth: float = 0.5
     protect_radius: float = 0.12
     beta: float = 5.0

@@ -165,6 +165,7 @@ class SilhouetteTracker:
         self._stance = RunningMedian(self.options.stance_window)
         self._shape_ds: list[float] = []
         self._shape_d: float | None = None
+        self._restarted = False
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -289,6 +290,7 @@ class SilhouetteTracker:
         self._shape_ds = []
         self._shape_d = None
         self._bad = 0
+        self._restarted = True
         for f in self._filters.values():
             f.reset()
 
@@ -298,9 +300,18 @@ class SilhouetteTracker:
         floor point of the silhouette's lowest pixel, when it makes a plausible
         person) is used whenever there is one; else, before the first pose, the
         median over ``shape_frames`` frames of the distance the templates fit best
-        at, kept until a floor point is seen."""
+        at, kept until a floor point is seen. After a failed start
+        (:meth:`_undo_failed_start`) the floor point must first agree with that
+        distance (within ``restart_agree`` of it) for the new track's first
+        ``restart_doubt`` s: the failed start was a floor point that was not the
+        feet."""
         o = self.options
-        if seen is not None:  # the silhouette stands on the floor: as before
+        # after a failed start, for ``restart_doubt`` s of the new track, a floor point
+        # counts only where the templates' fit agrees with it
+        doubt = self._restarted and (self._started is None or self._t is None
+                                     or self._t - self._started < o.restart_doubt)
+        if seen is not None and not doubt:  # it stands on the floor: as before
+            self._restarted = False
             self._shape_d = None
             return seen, True
         if self._started is None:
@@ -320,6 +331,11 @@ class SilhouetteTracker:
                 return None, False  # not sure yet where the player stands
             self._shape_d = float(np.median(self._shape_ds[-3 * o.shape_frames:]))
         assert self._shape_d is not None
+        d = self._shape_d
+        if seen is not None and abs(seen.distance - d) <= o.restart_agree * d:
+            self._restarted = False  # the floor point the templates agree with
+            self._shape_d = None
+            return seen, True
         win = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
                                  sil.scale, self._shape_d)
         return win, win is not None
