@@ -97,3 +97,70 @@ def test_shape_distance_needs_a_silhouette() -> None:
 def test_options_reject_a_negative_shape_start() -> None:
     with pytest.raises(ConfigError, match="shape_frames"):
         SilhouetteOptions(shape_frames=-1)
+
+
+def _tracker(tree):  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette import create_silhouette_tracker
+
+    return create_silhouette_tracker(SilhouetteOptions(body="m", arm_candidates=0),
+                                     (_camera(),), tree=tree)
+
+
+def _track_from(tracker, started: float, last: float) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.tracker import _Last
+
+    tracker._started = started
+    tracker._last = _Last(np.zeros((17, 3)), np.zeros(10), last)
+    tracker._distance = 5.0
+
+
+def test_tracker_starts_over_when_its_first_track_is_lost_at_once(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    # a pose at 0.0-0.2 s, then no person for longer than lost_after: that start was
+    # wrong (it protected its own spot, and was never replaced)
+    tracker = _tracker(silhouette_tree)
+    _track_from(tracker, 0.0, 0.2)
+    tracker._undo_failed_start(0.8)
+    assert tracker._last is None and tracker._started is None and tracker._distance is None
+    assert tracker._restarted
+
+
+def test_tracker_keeps_a_track_that_held_when_the_person_is_lost(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    tracker = _tracker(silhouette_tree)
+    _track_from(tracker, 0.0, 1.5)  # tracked for 1.5 s: an occlusion, not a wrong start
+    tracker._undo_failed_start(2.2)
+    assert tracker._last is not None and tracker._started == 0.0 and not tracker._restarted
+    _track_from(tracker, 0.0, 0.2)
+    tracker._undo_failed_start(0.6)  # not lost yet (lost_after 0.5 s)
+    assert tracker._last is not None
+
+
+def test_after_a_failed_start_a_floor_point_counts_only_where_the_shape_agrees(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.background import Silhouette
+
+    tree = silhouette_tree
+    cam = _camera()
+    tracker = _tracker(tree)
+    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
+    sil = Silhouette(shown, np.zeros_like(shown), scale, None)
+    geometry = tracker.geometry
+    far = window_at_distance(geometry, cam, shown, sil.unknown, scale, 4.5)
+    near = window_at_distance(geometry, cam, shown, sil.unknown, scale, 3.2)
+    assert far is not None and near is not None
+    tracker._restarted = True
+    tracker._started, tracker._t, tracker._shape_d = 1.0, 1.2, 3.0
+    win, ok = tracker._from_shape(sil, far)  # 50% off the shape's 3 m: not the feet
+    assert ok and win is not None and win.distance == pytest.approx(3.0)
+    win, ok = tracker._from_shape(sil, near)  # within restart_agree (25%): the feet
+    assert ok and win is near and not tracker._restarted
+    tracker._restarted, tracker._shape_d = True, 3.0
+    tracker._t = 1.0 + tracker.options.restart_doubt + 0.1  # the doubt has run out
+    win, ok = tracker._from_shape(sil, far)
+    assert win is far
+
+
+def test_options_reject_a_negative_restart() -> None:
+    with pytest.raises(ConfigError, match="restart_within"):
+        SilhouetteOptions(restart_within=-1.0)
+    with pytest.raises(ConfigError, match="restart_agree"):
+        SilhouetteOptions(restart_agree=0.0)

@@ -217,6 +217,14 @@ class SilhouetteOptions:
     floor point may move away from the camera (feet hidden by a bow or a lost leg
     would put it metres away); ``bootstrap_time``: seconds after the start during
     which the first frame's guess of the player counts for the floor point;
+    ``restart_within``: a track lost (no person for ``lost_after`` s) before it has
+    lasted this many seconds was a wrong start (the arms of a player who stands
+    still, taken for a whole person metres away, protected their own spot): the
+    tracker starts over as if it had seen no one, the background model kept (0:
+    off); after such a restart, for the new track's first ``restart_doubt`` s, a
+    floor point under the silhouette counts only where it lies within
+    ``restart_agree`` (a share) of the distance at which the templates fit what
+    moves (:mod:`.shapestart`); until then that distance is used;
     ``protect_radius``: how far (share of the working image's short side, so that
     portrait footage is not over-protected) the estimated body is dilated into the
     region the background model must not learn (0.04 gave
@@ -352,6 +360,10 @@ class SilhouetteOptions:
                               f"> 0, got {self.beta}")
         if not 0 <= self.protect_radius < 1:
             raise ConfigError("protect_radius must be a share of the image height in [0, 1)")
+        if self.restart_within < 0 or self.restart_agree <= 0 or self.restart_doubt < 0:
+            raise ConfigError("restart_within and restart_doubt must be >= 0 seconds (0: no "
+                              "restart, no doubt) and restart_agree > 0 (a share of the "
+                              "distance)")
         if not 0 <= self.select_motion < 1 or self.select_wait < 0:
             raise ConfigError("select_motion must be a share of the image in [0, 1) and "
                               "select_wait >= 0 seconds")
