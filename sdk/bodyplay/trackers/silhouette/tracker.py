@@ -19,7 +19,10 @@ When there is no first-frame guess of the player (GrabCut took a cup with the
 player) and what moves is not a whole person (a player who moves only the arms:
 the ray through an elbow meets the floor metres away, or never), the floor
 distance is the one at which the templates fit what moves best (:mod:`.shapestart`,
-median over ``shape_frames`` frames), until a floor point is seen.
+median over ``shape_frames`` frames), until a floor point is seen. A start whose
+track is lost before it has lasted ``restart_within`` s is undone (nothing is
+protected any more, the still body is held again), and the next floor point must
+agree with the templates' distance (``restart_agree``) for ``restart_doubt`` s.
 
 Joint states (DESIGN.md's contract): ``tracked`` when the joint's part shows in the
 chosen template, ``inferred`` when the template has it occluded or when the person
