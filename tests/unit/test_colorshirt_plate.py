@@ -92,3 +92,22 @@ def test_room_plate_remembers_only_the_room_it_saw_before_the_player_appeared() 
         empty.learn(None, everywhere=True)
     seen = empty.empty_room
     assert seen is not None and seen.all()
+
+
+def test_room_plate_never_learns_an_ambiguous_region_as_the_empty_room_until_it_moves() -> None:
+    """Before the first pose a start region that fits a shirt but never moved may be
+    a player standing still: the frames teach the room around it, never it, until
+    the plate sees it change (the player steps away and uncovers the room)."""
+    plate, room = RoomPlate(), _room()
+    frame, person = _player(room, 30)
+    for _ in range(20):  # the player waits, still, before any pose is reported
+        plate.start(frame)
+        plate.learn(None, everywhere=True, ambiguous=person)
+    fg = plate.foreground()
+    assert fg is not None and fg[15:50, 30:42].all()  # still the player
+    assert not fg[:, :20].any()  # the room beside is known
+    for _ in range(10):  # the player has left: the plate sees the room change there
+        plate.start(room)
+        plate.learn(None, everywhere=True, ambiguous=person)
+    fg = plate.foreground()
+    assert fg is not None and not fg[15:50, 30:42].any()

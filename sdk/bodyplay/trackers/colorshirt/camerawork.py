@@ -23,7 +23,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.anchors import Observed
 from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch
+from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch, person_region
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocation, ShirtLocator
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.prediction import (
@@ -85,6 +85,18 @@ def _ids_box(view: CameraView) -> tuple[int, int, int, int]:
     lo = view.window.to_image(np.array([xs.min(), ys.min()], float))
     hi = view.window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
     return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
+
+
+def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
+    """Where the player of ``view``'s shirt may stand, at the plates' resolution: the
+    floor cue's region around the shirt's classified pixels, down to the image's
+    lower edge (:func:`person_region`)."""
+    w, h = cam.width // _REDUCE, cam.height // _REDUCE
+    x0, y0, x1, y1 = person_region(_ids_box(view), cam.width, cam.height)
+    out = np.zeros((h, w), bool)
+    out[max(y0 // _REDUCE, 0): max(-(-y1 // _REDUCE), 0),
+        max(x0 // _REDUCE, 0): max(-(-x1 // _REDUCE), 0)] = True
+    return out
 
 
 class CameraWork:
@@ -161,13 +173,15 @@ class CameraWork:
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)
-        if reduced is not None and plate and not confirmed:
+        if reduced is not None and plate and not confirmed and (count <= 1 or
+                                                                  st.last_box is not None):
             # until the first pose is reported the plate learns every frame: a
             # colourful empty room has shirt-like regions that the search finds
             # and the colour test then rejects, and learning only where nothing
             # was found left the plate unready (the tune half's coffee-room clips:
             # no floor or head cue after the empty room; punch 24.6 -> 11.1 cm
-            # with one camera, 11.8 -> 5.2 with two)
+            # with one camera, 11.8 -> 5.2 with two); a start frame learns it
+            # once the tracker has judged its regions (:meth:`learn_room`)
             st.floor.no_shirt()
         if mask is not None and st.last_box is not None and st.torso_box is not None:
             # a person standing still fades into the background model: where the
@@ -403,17 +417,34 @@ class CameraWork:
             st.last_box = (int(x0 - pad), int(y0 - pad), int(x1 + pad), int(y1 + pad))
 
     def learn_room(self, states: list[CameraState], renderer: PoseRenderer,
-                   q: NDArray[np.float64] | None, ever_reported: bool) -> None:
+                   q: NDArray[np.float64] | None, ever_reported: bool,
+                   held: list[CameraView] | None = None) -> None:
         """Every camera's room plate learns what lies outside the silhouette of the
         pose ``q`` just reported (dilated); without a pose nothing, except before the
         first pose (``ever_reported`` False) in a camera that found no shirt (the
-        empty room)."""
-        if not self.options.room_plate:
+        empty room). ``held``: on a start frame, the regions that fit a shirt but
+        never moved (maybe a player standing still, :meth:`ColorShirtTracker._start_views`):
+        the room plate does not learn their player's region (the shirt's box down to
+        the image's lower edge) until it sees it change, and the floor cue's plate
+        does not learn a frame that has one (it learns start frames here, not in
+        :meth:`views`). Learned as the empty room, a player waiting still was masked
+        out of both plates within a few frames and never found."""
+        o = self.options
+        skip: list[NDArray[np.bool_] | None] = []
+        for i, cam in enumerate(self.cameras):
+            still = [_player_region(v, cam) for v in held or [] if v.index == i]
+            skip.append(np.logical_or.reduce(still) if still else None)
+        if held is not None and not ever_reported and (o.floor_cue or o.head_cue):
+            for st, sk in zip(states, skip, strict=True):
+                if sk is None:  # a start frame (see :meth:`views`) without a still shirt
+                    st.floor.no_shirt()
+        if not o.room_plate:
             return
         verts = None if q is None else renderer.vertices(q)
-        for cam, st in zip(self.cameras, states, strict=True):
+        for i, (cam, st) in enumerate(zip(self.cameras, states, strict=True)):
             if verts is None:
-                st.room.learn(None, everywhere=not ever_reported and not st.located)
+                st.room.learn(None, everywhere=not ever_reported and not st.located,
+                              ambiguous=skip[i])
                 continue
             h, w = cam.height // _REDUCE, cam.width // _REDUCE
             s = 0.5 / _REDUCE  # rendered at half the plate's resolution, then grown

@@ -151,7 +151,7 @@ class ColorShirtOptions:
       body presets, and override the speed gate (two good fits in a row that agree
       with each other take over from a pose reported before them that they are
       too far from).
-    * ``start_candidates``: with two cameras or more, whenever no camera tracks
+    * ``start_candidates``: with any number of cameras, whenever no camera tracks
       the shirt (the start, or after ``gate_time`` without a pose), the
       histogram search keeps up to this many shirt-like regions
       per camera, each classified without MOG2's mask. Every combination of one
@@ -161,7 +161,11 @@ class ColorShirtOptions:
       body's standing pelvis height: the player starts upright); the track
       starts on the one with the most cameras, then the lowest residual. A
       poster or a fruit bowl more colorful than the shirt does not move and fits
-      no upright torso that both cameras see. 1: the most colorful region only.
+      no upright torso that both cameras see; with one camera the motion test
+      and the upright root (on the shirt's-size depth) do the choosing, and a
+      region that never moved starts only if its fit anchors 8 of the 20
+      patches (a player waiting still; else it is held, not learned as room).
+      1: the most colorful region only.
     """
 
     adaptive_white_balance: bool = True

@@ -13,7 +13,8 @@ So clutter in shirt colours beside the player (a poster, clothes on a rail, frui
 leaves the classification as soon as the player has been seen next to it, and the
 pixels the player covers are never learned, however long they stand still. Frames
 before the first pose (an empty-room start) teach every still pixel of a camera
-that sees no shirt. A change of light scales the plate by one gain per channel,
+that sees no shirt, but a region that may be a player standing still (``ambiguous``)
+only once it has changed. A change of light scales the plate by one gain per channel,
 measured on known pixels away from the player.
 """
 
@@ -59,6 +60,8 @@ class RoomPlate:
         self._prev: NDArray[np.float32] | None = None
         self._small: NDArray[np.float32] | None = None
         self._empty: NDArray[np.bool_] | None = None
+        self._moved: NDArray[np.bool_] | None = None
+        """Pixels seen to change (not with the light) since the plate began."""
         self._away: NDArray[np.bool_] | None = None
         """Pixels away from the player at the last :meth:`learn` (the light's gain is
         measured there)."""
@@ -90,6 +93,7 @@ class RoomPlate:
             self._count = np.zeros((h, w), np.uint8)
             self._run = np.zeros((h, w), np.uint8)
             self._prev = f
+            self._moved = np.zeros((h, w), bool)
             self._away = None
         self._small = f
         known = self.known
@@ -120,14 +124,20 @@ class RoomPlate:
                                 np.ones((3, 3), np.uint8)) > 0
         return ~room
 
-    def learn(self, person: NDArray[np.bool_] | None, everywhere: bool = False) -> None:
+    def learn(self, person: NDArray[np.bool_] | None, everywhere: bool = False,
+              ambiguous: NDArray[np.bool_] | None = None) -> None:
         """Learn this frame's still pixels outside ``person`` (plate resolution; None:
         no pose this frame, so nothing is learned unless ``everywhere``, as before the
-        first pose in a camera that sees no shirt)."""
+        first pose in a camera that sees no shirt).
+
+        ``ambiguous``: pixels that may be a player standing still (a region that
+        fits a shirt but never moved); they are learned only once the plate has
+        seen them change: a still player is never learned as the room.
+        """
         f, prev = self._small, self._prev
         if f is None or prev is None or self._mean is None:
             return
-        assert self._count is not None and self._run is not None
+        assert self._count is not None and self._run is not None and self._moved is not None
         change = cv2.transform(cv2.absdiff(f, prev), np.ones((1, 3), np.float32))
         still = change < self.still
         self._run = np.where(still, np.minimum(self._run.astype(np.int32) + 1, 255),
@@ -139,12 +149,15 @@ class RoomPlate:
             # (or under a wrong pose) is forgotten as soon as it moves; a change of
             # most of the room at once is the light, not motion
             self._count[~still] = 0
+            self._moved |= ~still
         if person is None and not everywhere:
             self._away = None
             return
         away = np.ones(still.shape, bool) if person is None else ~person
         self._away = away
         learn = away & (self._run >= self.still_frames)
+        if ambiguous is not None:
+            learn &= self._moved | ~ambiguous
         if not learn.any():
             return
         if person is None:  # an empty-room frame (``everywhere``)
