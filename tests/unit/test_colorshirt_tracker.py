@@ -8,6 +8,7 @@ from colorshirt_paint import clutter, webcam_rig
 
 from bodyplay.body import UPPER_BODY, Skeleton
 from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shapes import BodyShape
 from bodyplay.body.shirt import patch_colors_rgb
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import Frame, FrameSet
@@ -33,16 +34,16 @@ def db():  # type: ignore[no-untyped-def]
 
 
 def _paint(q: np.ndarray, cams: tuple[Camera, ...], rng: np.random.Generator,
-           gains=(1.0, 1.0, 1.0), rooms=None) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
+           gains=(1.0, 1.0, 1.0), rooms=None, skeleton=SK) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
     """The body in pose ``q`` painted over a fresh clutter room per camera (or ``rooms``)."""
-    mesh = body_mesh(SK)
+    mesh = body_mesh(skeleton)
     fid = np.where(mesh.face_part > 0, mesh.face_part, 21).astype(np.uint8)
     pal = np.zeros((256, 3), float)
     pal[:21] = patch_colors_rgb()
     pal[21] = (222, 171, 140)
     out = []
     for k, cam in enumerate(cams):
-        ids = render_idmaps(mesh.pose(SK, q)[None], mesh.faces, fid, cam)[0]
+        ids = render_idmaps(mesh.pose(skeleton, q)[None], mesh.faces, fid, cam)[0]
         img = (clutter(480, 640, rng) if rooms is None else rooms[k]).astype(float)
         on = ids > 0
         shade = rng.uniform(0.85, 1.0, size=on.sum())[:, None]
@@ -375,8 +376,45 @@ def test_one_camera_starts_on_a_still_player_whose_arms_move_not_on_a_brighter_p
     assert len(errs) >= 3 and 100 * max(errs) < 15.0, errs
 
 
+def test_a_lone_cameras_start_does_not_lock_the_track_to_its_depth(db) -> None:  # type: ignore[no-untyped-def]
+    """A player whom only the first camera sees starts a track there, placed in
+    depth by the shirt's size: a player smaller than the body in use (0.85 of
+    it) is put 0.5 m too far. The second camera is not gated by that pose: as
+    soon as it sees the player, the two cameras' hypothesis re-starts the track
+    at the right depth. Gated at once (``start_agreement_frames=0``), the speed
+    gate rejected the right pose as a jump from the lone camera's."""
+    scale = 0.85
+    small = Skeleton(BodyShape("small", 1.75 * scale, 0.98 * scale, 50.0,
+                               breadth=scale, girth=scale))
+    q = _truth(11)
+    q[1] = small.pelvis_height
+    truth = small.joint_positions(q)[:11]
+    cams = webcam_rig(2)
+    rooms = [clutter(480, 640, np.random.default_rng(k)) for k in range(2)]
+    errs: dict[int, list[float]] = {}
+    for agreement in (30, 0):
+        tr = create_colorshirt_tracker(
+            ColorShirtOptions(background_subtraction=False, body="m",
+                              start_agreement_frames=agreement), cams, database=db)
+        rng = np.random.default_rng(4)
+        errs[agreement] = []
+        for i in range(2):
+            images = _paint(q, cams, rng, rooms=rooms, skeleton=small)
+            if i == 0:  # the second camera does not see the player yet
+                images[1] = rooms[1].copy()
+            r = tr.process(_frameset(images, i))
+            assert r.found or i == 1
+            assert not r.found or r.extras["cameras_used"] == ([0] if i == 0 else [0, 1])
+            errs[agreement].append(np.inf if not r.found else
+                                   float(np.linalg.norm(r.joints[:11] - truth, axis=1).mean()))
+    assert errs[30][0] > 0.3 and errs[30][1] < 0.1, errs  # the lone start, then both
+    assert errs[0][1] > 0.3, errs
+
+
 def test_options_reject_no_start_candidates_or_an_empty_root_band() -> None:
     with pytest.raises(ConfigError, match="start_candidates"):
         ColorShirtOptions(start_candidates=0)
     with pytest.raises(ConfigError, match="start_root_band"):
         ColorShirtOptions(start_root_band=(1.2, 0.8))
+    with pytest.raises(ConfigError, match="start_agreement_frames"):
+        ColorShirtOptions(start_agreement_frames=-1)

@@ -151,14 +151,16 @@ class CameraWork:
         return found[0] if found else None
 
     def views(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
-              confirmed: bool, count: int) -> list[CameraView]:
+              confirmed: bool, count: int, tracked: bool = False) -> list[CameraView]:
         """Camera ``i``'s candidate views of the frame at ``t``, best located first.
 
-        With ``count`` 1, or while the shirt is tracked (a search box), the one
-        region the histogram search finds; else up to ``count`` shirt-like regions
-        of the whole frame (:meth:`ShirtLocator.candidates`), each classified with
-        its own white balance and matched to the database: the tracker chooses
-        (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
+        With ``count`` 1 the one region the histogram search finds (near the
+        shirt's last box first, within the gate; else in the whole frame, with
+        the motion mask), committed; else up to ``count`` shirt-like regions of
+        the whole frame (:meth:`ShirtLocator.candidates`, without the gate or
+        the motion mask), after that region if ``tracked``, each classified
+        with its own white balance and matched to the database: the tracker
+        chooses (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
         """
         o = self.options
         maps = self._undistort[i]
@@ -212,23 +214,29 @@ class CameraWork:
             bx0, by0, bx1, by1 = st.last_box
             reach = _SEARCH_REACH * max(bx1 - bx0, by1 - by0)
             region = (int(bx0 - reach), int(by0 - reach), int(bx1 + reach), int(by1 + reach))
-        if count <= 1 or region is not None:
+        out, st.located = [], False
+        if count <= 1 or tracked:
             loc = self.locator.locate(image, mask, region)
             st.located = loc.found
-            if not loc.found:
-                return []
-            view = self._view_at(i, st, image, mask, loc, t)
+            trial = st if count <= 1 else dataclasses.replace(
+                st, references=copy.deepcopy(st.references))
+            view = self._view_at(i, trial, image, mask, loc, t) if loc.found else None
+            if count <= 1:
+                if view is not None:
+                    self.commit(st, view, confirmed)
+                return [] if view is None else [view]
             if view is not None:
-                self.commit(st, view, confirmed)
-            return [] if view is None else [view]
+                view.state = trial
+                out.append(view)
         # MOG2's mask holds only what moved since the last frame, a player's moving
         # parts: the candidates see every pixel but those the room plate knows
-        # (the tracker asks MOG2 whether each moved, :meth:`moved`)
+        # (the tracker asks MOG2 whether each moved, :meth:`moved`), anywhere in
+        # the frame (no gate)
         locs = self.locator.candidates(image, full, count)
-        st.located = bool(locs)
-        out = []
+        st.located = st.located or bool(locs)
         for loc in locs:  # each with the white balance it would choose alone
-            trial = dataclasses.replace(st, references=copy.deepcopy(st.references))
+            trial = dataclasses.replace(st, references=copy.deepcopy(st.references),
+                                        gate=None, last_box=None)
             view = self._view_at(i, trial, image, full, loc, t)
             if view is not None:
                 view.state = trial

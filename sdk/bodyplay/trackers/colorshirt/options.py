@@ -166,6 +166,13 @@ class ColorShirtOptions:
       region that never moved starts only if its fit anchors 8 of the 20
       patches (a player waiting still; else it is held, not learned as room).
       1: the most colorful region only.
+    * ``start_agreement_frames``: with several cameras, a track that one camera
+      alone started does not lock the others: each frame its tracked view is
+      combined with every other camera's regions (where a track would search
+      there, and its whole frame's candidates); the first plausible upright
+      hypothesis with more cameras re-starts the track from scratch. After this
+      many frames without one, the lone camera's pose gates every camera as a
+      track does (0: at once).
     """
 
     adaptive_white_balance: bool = True
@@ -227,6 +234,7 @@ class ColorShirtOptions:
     good_residual: float = 0.09
     start_candidates: int = 3
     start_root_band: tuple[float, float] = (0.6, 1.3)
+    start_agreement_frames: int = 30
     plate_mask_alone_cameras: int = 1
     locate: LocateOptions = field(default_factory=LocateOptions)
 
@@ -255,6 +263,9 @@ class ColorShirtOptions:
             raise ConfigError("min_colors must be between 1 and 10")
         if self.start_candidates < 1:
             raise ConfigError("start_candidates must be at least 1 (default 3)")
+        if not 0 <= self.start_agreement_frames <= 10_000:
+            raise ConfigError("start_agreement_frames must be between 0 (a lone camera's "
+                              "start gates the others at once) and 10000 (default 30)")
         lo, hi = self.start_root_band
         if not 0 <= lo < hi:
             raise ConfigError("start_root_band must be (low, high) fractions of the standing "

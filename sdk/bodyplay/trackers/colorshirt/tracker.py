@@ -170,6 +170,9 @@ class ColorShirtTracker:
         """The camera that alone sees the shirt this frame (None: none or several)."""
         self._held: list[CameraView] = []
         """Start regions that fit a shirt but never moved (:meth:`_start_views`)."""
+        self._alone: tuple[int, int] | None = None
+        """The camera that alone started the track and the frames since, while no
+        other camera agreed (None: no such track): the others keep searching."""
         self._selection: BodySelection | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
@@ -209,9 +212,13 @@ class ColorShirtTracker:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
         confirmed = self._reported is not None
-        starting = self._starting()
+        starting, fresh = self._starting(), False
         if starting:
-            views = self._start_views(frames, confirmed)
+            views, fresh = self._start_views(frames, confirmed)
+            if fresh:  # a new hypothesis: nothing of the track before it holds
+                self._prev = self._reported = self._unreached = None
+                if self._selection is not None:
+                    self._selection.previous.clear()
         else:
             views = [v for i, fr in enumerate(frames)
                      if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))
@@ -271,6 +278,10 @@ class ColorShirtTracker:
                 self._work.refit_white_balance(self._cams[v.index], v, r)
         self._prev = fit.q
         self._reported = (frames.t, fit.q[:3].copy())
+        if (fresh or self._alone is not None) and len(self.cameras) > 1:
+            alone = 0 if fresh or self._alone is None else self._alone[1] + 1
+            agreed = len(fit.views) > 1 or alone >= self.options.start_agreement_frames
+            self._alone = None if agreed else (fit.views[0].index, alone)
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
         self._unreached = None
         self._good = fit.residual <= self.options.good_residual
@@ -285,16 +296,19 @@ class ColorShirtTracker:
     # ---- start-up: where the player is ---------------------------------------------
     def _starting(self) -> bool:
         """Whether the next frame starts a track: no camera tracking the shirt (none
-        reported yet, or lost for ``gate_time``). One camera too: its start was the
+        reported yet, or lost for ``gate_time``), or with several cameras only the
+        one that started the track, no other agreeing yet
+        (``start_agreement_frames``). One camera too: its start was the
         most colourful region, and with the player in view a still poster or fruit
         bowl in shirt colours was that region, or (its fit rejected) MOG2 had
         absorbed a player standing still by the next frame and nothing was found
         (tune half, one camera: empty room first median 14.9 -> 11.3 cm, worst
         47.6 -> 27.0; in view the wave-both clip 0 -> 99% of frames with a pose)."""
-        return (self.options.start_candidates > 1
-                and all(st.last_box is None for st in self._cams))
+        return self.options.start_candidates > 1 and (
+            self._alone is not None or all(st.last_box is None for st in self._cams))
 
-    def _start_views(self, frames: FrameSet, confirmed: bool) -> list[CameraView]:
+    def _start_views(self, frames: FrameSet, confirmed: bool
+                     ) -> tuple[list[CameraView], bool]:
         """The views a track starts from (``start_candidates``): of every
         combination of one candidate region (or none) per camera, the one whose
         fit with the body in use counts the most cameras, then fits best, among
@@ -311,21 +325,35 @@ class ColorShirtTracker:
         still looks just like that, and learning them as the empty room masked
         them out for good (the ninja's colour-shirt game with one camera: the
         player waited still for 6 frames, then was never found).
+
+        A camera that alone started the track (several cameras, none agreeing
+        yet) gives its tracked view, and every combination must hold it; every
+        other camera gives the region a track would find there (near where that
+        pose puts the shirt, else in the whole frame with the motion mask) and
+        its whole frame's candidates. Returns the views and whether they start
+        the track afresh (a hypothesis chose them, not the tracked view alone).
         """
         o = self.options
+        lone = None if self._alone is None else self._alone[0]
         cands = [self._work.views(i, self._cams[i], fr.image, frames.t, confirmed,
-                                  o.start_candidates) for i, fr in enumerate(frames)]
+                                  1 if i == lone else o.start_candidates, lone is not None)
+                 for i, fr in enumerate(frames)]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
-        moved = {id(v): self._work.moved(self._cams[v.index], v) for c in cands for v in c}
+        tracked = [] if lone is None else cands[lone]
+        moved = {id(v): self._work.moved(self._cams[v.index], v)
+                 for i, c in enumerate(cands) if i != lone for v in c}
         lo, hi = (f * self.skeleton.pelvis_height for f in o.start_root_band)
         best: tuple[tuple[int, int, float], list[CameraView]] | None = None
         saved, self._lone = self._lone, None  # judged without the depth filter
         self._held = []
-        for combo in itertools.product(*[[*c, None] for c in cands]):
+        options: list[list[CameraView | None]] = [
+            [*tracked] or [None] if i == lone else [*c, None] for i, c in enumerate(cands)]
+        for combo in itertools.product(*options):
             chosen = [v for v in combo if v is not None]
-            still = o.background_subtraction and not all(moved[id(v)] for v in chosen)
-            if not chosen or (still and len(chosen) > 1):
-                continue  # a camera saw nothing move there (or no motion yet)
+            still = o.background_subtraction and not all(
+                moved[id(v)] for v in chosen if v.index != lone)
+            if len(chosen) <= len(tracked) or (still and len(chosen) > 1):
+                continue  # nothing added, or a camera saw nothing move there
             self.diagnostics = {}
             fit = self._estimate([copy.copy(v) for v in chosen], None)
             if (not np.isfinite(fit.residual) or not lo <= fit.q[1] <= hi
@@ -339,12 +367,13 @@ class ColorShirtTracker:
                 best = (key, chosen)
         self._lone = saved
         self.diagnostics = {}
-        chosen = [] if best is None else best[1]
+        chosen = tracked if best is None else best[1]
         for i, st in enumerate(self._cams):  # a camera whose candidates were all the
             st.located = any(v.index == i for v in chosen)  # room: the plate learns it
         for v in chosen:
-            self._work.commit(self._cams[v.index], v, confirmed)
-        return chosen
+            if v.index != lone:
+                self._work.commit(self._cams[v.index], v, confirmed)
+        return chosen, best is not None
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
