@@ -215,8 +215,8 @@ class ColorShirtTracker:
         starting, fresh = self._starting(), False
         if starting:
             views, fresh = self._start_views(frames, confirmed)
-            if fresh:  # a new hypothesis: nothing of the track before it holds
-                self._prev = self._reported = self._unreached = None
+            if fresh and self._alone is not None:  # a new hypothesis replaces a lone
+                self._prev = self._reported = self._unreached = None  # camera's track
                 if self._selection is not None:
                     self._selection.previous.clear()
         else:
