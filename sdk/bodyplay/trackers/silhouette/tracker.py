@@ -154,21 +154,26 @@ class SilhouetteTracker:
         self._scores: dict[str, list[float]] = {b: [] for b in names}
         self._tops: dict[str, list[float]] = {b: [] for b in names}
         self._moved = False
-        self._last: _Last | None = None
         self._t: float | None = None
-        self._bad = 0
-        self._depths: list[tuple[float, float]] = []
-        self._distance: float | None = None
-        self._started: float | None = None
+        self._forget_track()
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
         self._fitters: dict[str, ArmFitter] = {}
         self._maps_now: tuple[DistanceMaps, ...] = ()
         self._short: dict[str, float] = {}
         self._head = RunningMedian(self.options.head_depth_window)
         self._stance = RunningMedian(self.options.stance_window)
+        self._restarted = False
+
+    def _forget_track(self) -> None:
+        """Forget the track (last pose, start time, distance and the readings behind
+        it), as before anyone was seen; the background and the body choice stay."""
+        self._last: _Last | None = None
+        self._started: float | None = None
+        self._distance: float | None = None
+        self._depths: list[tuple[float, float]] = []
         self._shape_ds: list[float] = []
         self._shape_d: float | None = None
-        self._restarted = False
+        self._bad = 0
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -286,13 +291,7 @@ class SilhouetteTracker:
                 or t - last.t <= self.options.lost_after
                 or last.t - started >= self.options.restart_within):
             return
-        self._last = None
-        self._started = None
-        self._distance = None
-        self._depths = []
-        self._shape_ds = []
-        self._shape_d = None
-        self._bad = 0
+        self._forget_track()
         self._restarted = True
         for f in self._filters.values():
             f.reset()
