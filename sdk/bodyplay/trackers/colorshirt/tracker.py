@@ -285,6 +285,16 @@ class ColorShirtTracker:
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
         self._unreached = None
         self._good = fit.residual <= self.options.good_residual
+        if self._alone is not None:
+            # one camera's start in a rig of several: its depth is the shirt's size
+            # alone (0.5-4.6 m off at times), so it is tracked but not reported until
+            # another camera agrees; no plate learns this frame (not around a pose
+            # that may be metres off, and not the other cameras' frames as an empty
+            # room: the player is in it)
+            self.diagnostics["rejected"] = "unconfirmed"
+            self._ever_reported = True
+            self._work.learn_room(self._cams, self.renderer, None, True)
+            return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
         self._work.learn_room(self._cams, self.renderer, fit.q if self._good else None,
                               self._ever_reported)
         self._ever_reported = True
