@@ -170,9 +170,10 @@ class ColorShirtOptions:
       alone started does not lock the others: each frame its tracked view is
       combined with every other camera's regions (where a track would search
       there, and its whole frame's candidates); the first plausible upright
-      hypothesis with more cameras re-starts the track from scratch. After this
-      many frames without one, the lone camera's pose gates every camera as a
-      track does (0: at once).
+      hypothesis with more cameras re-starts the track from scratch. Until then
+      the lone camera's pose (its depth the shirt's size alone) is tracked but
+      not reported. After this many frames without one, it is reported and
+      gates every camera as a track does (0: at once).
     """
 
     adaptive_white_balance: bool = True
