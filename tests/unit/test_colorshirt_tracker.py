@@ -442,3 +442,39 @@ def test_options_reject_no_start_candidates_or_an_empty_root_band() -> None:
         ColorShirtOptions(start_root_band=(1.2, 0.8))
     with pytest.raises(ConfigError, match="start_agreement_frames"):
         ColorShirtOptions(start_agreement_frames=-1)
+
+
+@pytest.mark.parametrize("player_patches,started", [(10, "player"), (5, None)])
+def test_one_camera_starts_on_the_region_whose_fit_explains_most_of_the_shirt(
+        db, monkeypatch, player_patches, started) -> None:  # type: ignore[no-untyped-def]
+    """With one camera the start's hypotheses are ranked by the patches their fit
+    anchors, then by residual: a moving piece of the shirt (or of clutter) fits 3
+    patches with a tiny residual, the player 7-11 with a larger one (the
+    validation set's clothes room under coloured light: the piece started the
+    track 1-2 m off). A fit anchoring fewer than ``_START_PATCHES`` never starts.
+    The regions and fits are stand-ins: this specifies the choice, not the image
+    work (which the tests above cover)."""
+    from types import SimpleNamespace
+
+    from bodyplay.trackers.colorshirt import tracker as trk
+
+    cams = webcam_rig(1)
+    tr = create_colorshirt_tracker(ColorShirtOptions(), cams, database=db)
+    q = _truth(11)
+    q[1] = SK.pelvis_height  # upright
+    regions = [SimpleNamespace(index=0, distance=0.1, name="piece", state=None),
+               SimpleNamespace(index=0, distance=0.3, name="player", state=None)]
+    fits = {"piece": (3, 0.004), "player": (player_patches, 0.07)}
+
+    def estimate(views, prev_q, search_one=True):  # type: ignore[no-untyped-def]
+        seen, residual = fits[views[0].name]
+        return trk._Fit(q, set(range(seen)), residual, views, [])
+
+    monkeypatch.setattr(tr._work, "views", lambda *a, **k: list(regions))
+    monkeypatch.setattr(tr._work, "moved", lambda st, v: True)
+    monkeypatch.setattr(tr._work, "commit", lambda st, v, confirmed: None)
+    monkeypatch.setattr(tr, "_estimate", estimate)
+    monkeypatch.setattr(tr, "_plausible", lambda q, views: True)
+    chosen, fresh = tr._start_views(_frameset([np.zeros((480, 640, 3), np.uint8)], 1), False)
+    assert [v.name for v in chosen] == ([] if started is None else [started])
+    assert fresh == (started is not None)

@@ -103,7 +103,8 @@ class RootDepthFilter:
     a stance reading further above, and a floor reading whose depth puts the
     root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
     readings in a row the depth restarts from the reading (it, not the
-    prediction, was right); ``horizon``: seconds without a reading after which the
+    prediction, was right), unless the shirt's reading contradicts it too;
+    ``horizon``: seconds without a reading after which the
     depth lapses (the learned scale and biases stay).
     """
 
@@ -327,6 +328,21 @@ class RootDepthFilter:
         self.rejected, self.airborne = took["floor_rejected"], took["airborne"]
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
+    def _shirt_agrees(self, floor: float, shirt: float | None) -> bool:
+        """Whether the shirt's reading ``shirt`` (None: none) leaves the floor reading
+        ``floor`` possible: their depths, each with its own and the player's
+        uncertainty, within ``gate`` variances. Floor readings that keep disagreeing
+        with the filter restart it only then: feet read 7.5 m away for 15 frames
+        while the shirt said 4-5 m (clothes piled on the floor next to the player,
+        true depth 3.3 m) restarted it there, pinned (tune half, one camera, lamp
+        switch, raise-up-both 197 -> 68 cm)."""
+        x, P = self._from_floor(floor)
+        if shirt is None or not (np.isfinite(shirt) and shirt > 0):
+            return True
+        xs, Ps = self._from_shirt(shirt)
+        y = float(x[0] - xs[0])
+        return y**2 <= self.gate * float(P[0, 0] + Ps[0, 0])
+
     def end(self, t: float, shirt: float | None, ray: RootRay | None = None) -> None:
         """Commit the reported fit's readings at ``t`` (see :meth:`posterior`)."""
         if self.camera is None:
@@ -348,7 +364,8 @@ class RootDepthFilter:
             self.rejects["floor"] = 0
         elif took["floor_rejected"] and not took["airborne"]:
             self.rejects["floor"] += 1
-            if self.rejects["floor"] >= self.max_rejects and self._floor is not None:
+            if (self.rejects["floor"] >= self.max_rejects and self._floor is not None
+                    and self._shirt_agrees(self._floor, shirt)):
                 self._keep_body()
                 self._start(*self._from_floor(self._floor))
                 self.t_read = self.t_floor = t

@@ -87,6 +87,18 @@ always held: a start from one camera's region is placed by the shirt's size alon
 (tune half, two cameras, with the rule: in view 6.37 / 12.4 -> 7.84 / 68.9 cm,
 raise-up-left started on the clothes rail)."""
 
+_START_PATCHES = 6
+"""Patches of the shirt (of 20) that the fit of any start region must anchor with one
+camera (a still region: :data:`_STILL_PATCHES`), and among the regions that qualify
+the one anchoring the most starts the track: how much of the shirt's layout a fit
+explains tells the player from shirt-coloured clutter, its residual does not (a fit
+of 3 patches reprojects as well as one of 10). A player facing the camera shows 7-11;
+in the clothes room under coloured light the first frames offered the shirt merged
+with the clothes rail behind it (9-10 patches, its root 0.3 m too high: not upright)
+and a moving piece of it (3-5 patches, residual 0.004-0.04), which started the track
+1-2 m off (tune half, one camera, raise-up-both under the lamp switch 161.8 ->
+68.4 cm with the motion-masked region below)."""
+
 
 def _torso_length(skeleton: Skeleton) -> float:
     """Pelvis to neck (m) of ``skeleton`` standing upright (its bone offsets)."""
@@ -342,18 +354,27 @@ class ColorShirtTracker:
         pose puts the shirt, else in the whole frame with the motion mask) and
         its whole frame's candidates. Returns the views and whether they start
         the track afresh (a hypothesis chose them, not the tracked view alone).
+
+        One camera also offers the region a track would find (the whole frame
+        searched with the motion and room masks: what moved, without the still
+        clutter around it), and its hypotheses are ranked by how much of the
+        shirt's layout their fit explains (patches anchored, at least
+        :data:`_START_PATCHES`), then by residual: in a room full of shirt
+        colours the unmasked regions merge the player with clutter behind them.
         """
         o = self.options
         lone = None if self._alone is None else self._alone[0]
         cands = [self._work.views(i, self._cams[i], fr.image, frames.t, confirmed,
-                                  1 if i == lone else o.start_candidates, lone is not None)
+                                  1 if i == lone else o.start_candidates,
+                                  lone is not None or len(self.cameras) == 1)
                  for i, fr in enumerate(frames)]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
         tracked = [] if lone is None else cands[lone]
         moved = {id(v): self._work.moved(self._cams[v.index], v)
                  for i, c in enumerate(cands) if i != lone for v in c}
         lo, hi = (f * self.skeleton.pelvis_height for f in o.start_root_band)
-        best: tuple[tuple[int, int, float], list[CameraView]] | None = None
+        best: tuple[tuple[int, int, int, float], list[CameraView]] | None = None
+        one = len(self.cameras) == 1
         saved, self._lone = self._lone, None  # judged without the depth filter
         self._held = []
         options: list[list[CameraView | None]] = [
@@ -372,7 +393,9 @@ class ColorShirtTracker:
             if still and (len(fit.seen) < _STILL_PATCHES or len(self.cameras) > 1):
                 self._held += chosen  # a shirt that fits but never moved: maybe a
                 continue  # player standing still, whom the plates must not learn
-            key = (int(still), -len(chosen), fit.residual)
+            if one and len(fit.seen) < _START_PATCHES:
+                continue  # too little of the shirt's layout to tell it from clutter
+            key = (int(still), -len(chosen), -len(fit.seen) if one else 0, fit.residual)
             if best is None or key < best[0]:
                 best = (key, chosen)
         self._lone = saved
