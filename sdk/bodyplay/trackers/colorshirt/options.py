@@ -162,10 +162,12 @@ class ColorShirtOptions:
       starts on the one with the most cameras, then the lowest residual. A
       poster or a fruit bowl more colorful than the shirt does not move and fits
       no upright torso that both cameras see; with one camera the motion test
-      and the upright root (on the shirt's-size depth) do the choosing, and a
-      region that never moved starts only if its fit anchors 8 of the 20
-      patches (a player waiting still; else it is held, not learned as room).
-      1: the most colorful region only.
+      and the upright root (on the shirt's-size depth) do the choosing, the
+      region a track would find (searched with the motion mask) is offered too,
+      the fit must anchor 6 of the 20 patches and the one anchoring the most
+      starts (then the lowest residual), and a region that never moved starts
+      only if its fit anchors 8 (a player waiting still; else it is held, not
+      learned as room). 1: the most colorful region only.
     * ``start_agreement_frames``: with several cameras, a track that one camera
       alone started does not lock the others: each frame its tracked view is
       combined with every other camera's regions (where a track would search
