@@ -235,6 +235,15 @@ class BackgroundModel:
         self._stirred: NDArray[np.bool_] = np.zeros((0, 0), bool)
         self.held: NDArray[np.bool_] | None = None
         self.motion = 0.0
+        self.moving: NDArray[np.bool_] = np.zeros((0, 0), bool)
+        self._x: NDArray[np.float32] | None = None
+        self._first: NDArray[np.float32] | None = None
+        self._learned_at: NDArray[np.int32] = np.zeros((0, 0), np.int32)
+
+    @property
+    def frames(self) -> int:
+        """Frames seen since the start (or the last :meth:`reset`)."""
+        return self._frames
 
     @property
     def guessing(self) -> bool:
@@ -249,6 +258,40 @@ class BackgroundModel:
         self._resolving = False
         self.player = None
         self._ghost = np.zeros((0, 0), bool)
+
+    def release(self, mask: NDArray[np.bool_], since: int | None = None) -> None:
+        """The tracker found that what it followed there is not the player (it stood
+        still while the player moved elsewhere, :mod:`.stilltrack`): the pixels of
+        ``mask`` (working resolution) that did not move this frame are learned as
+        background now, with this frame's values, and stop being the resolved player
+        or a ghost. With ``since`` (a frame count, :attr:`frames`), the pixels of the
+        first frame's guess learned as background from that frame on, outside
+        ``mask``, are unknown again (the wrong estimate made them sure background in
+        the resolution: the player's still body, beside it) and resolved anew."""
+        if self._x is None or self.known is None or self._mean is None or self._var is None:
+            return
+        if mask.shape != self.known.shape:
+            raise CaptureError(f"release mask is {mask.shape[::-1]}, the model works at "
+                               f"{self.known.shape[::-1]}")
+        m = mask & ~self.moving
+        self._mean[m] = self._x[m]
+        self._var[m] = self.options.min_std ** 2
+        self.known |= m
+        if self.player is not None:
+            self.player &= ~m
+        if self._ghost.shape == m.shape:
+            self._ghost &= ~m
+        self.occupied = self.occupied & ~m
+        if since is None or not self._resolving or self._first is None:
+            return
+        back = (self._learned_at >= since) & ~mask
+        self._mean[back] = self._first[back]
+        self._var[back] = self.options.min_std ** 2
+        self.known &= ~back
+        self._was_diff &= ~back
+        self._learned_at[back] = -1
+        if self.player is not None:
+            self.player |= back  # probably the player, as in the first guess
 
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
         if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
@@ -284,6 +327,8 @@ class BackgroundModel:
             self._was_diff = np.zeros(x.shape[:2], bool)
             self._stirred = np.zeros(x.shape[:2], bool)
             self.player = None
+            self._first = x.copy()
+            self._learned_at = np.full(x.shape[:2], -1, np.int32)
             # without a first guess there is nothing to resolve: unknown stays "don't care"
             self._resolving = bool(o.resolve_every and self.occupied.any())
             if self._resolving:
@@ -302,6 +347,8 @@ class BackgroundModel:
         # what moved this frame, single noisy pixels dropped
         stir = cv2.morphologyEx(moved, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)) > 0
         self.motion = float(stir.mean())
+        self.moving = stir
+        self._x = x
         if (self._resolving and self._frames % o.resolve_every == 0
                 and not self.known.all()):
             self._resolve(image, x.shape[1::-1], differs,
@@ -341,9 +388,11 @@ class BackgroundModel:
             protect = protect | (self.player & ~self.known)
         if self._off.shape != protect.shape:
             self._off = np.zeros(protect.shape, np.int32)
+        before = self.known & self.occupied
         _learn(x, self._mean, self._var, self._still, self.known, differs, self._was_diff,
                np.ascontiguousarray(protect), o.learn_after, o.relearn_after, np.float32(o.rate),
                np.float32(o.min_std**2), self._off, o.learn_away)
+        self._learned_at[self.known & self.occupied & ~before] = self._frames
         unknown = (~self.known & (fg == 0)).astype(np.uint8)
         if self.player is not None:  # resolved: the rest of the unknown is background
             unknown[:] = 0

@@ -63,6 +63,7 @@ from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geome
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.shapestart import shape_distance, window_at_distance
 from bodyplay.trackers.silhouette.stance import stance_offset
+from bodyplay.trackers.silhouette.stilltrack import TrackMotion
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
@@ -163,17 +164,21 @@ class SilhouetteTracker:
         self._head = RunningMedian(self.options.head_depth_window)
         self._stance = RunningMedian(self.options.stance_window)
         self._restarted = False
+        self.reguesses = 0
 
     def _forget_track(self) -> None:
         """Forget the track (last pose, start time, distance and the readings behind
         it), as before anyone was seen; the background and the body choice stay."""
         self._last: _Last | None = None
         self._started: float | None = None
+        self._start_frame = 0
         self._distance: float | None = None
         self._depths: list[tuple[float, float]] = []
         self._shape_ds: list[float] = []
         self._shape_d: float | None = None
         self._bad = 0
+        o = self.options
+        self._motion = TrackMotion(o.still_window, o.still_motion, o.still_ratio, o.still_fit)
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
@@ -215,6 +220,8 @@ class SilhouetteTracker:
         near = self._last.protect if self._last is not None else None
         stands = self._stands_factory(sil.scale)
         person = select_person(sil.foreground, near, stands=stands)
+        if near is not None and self.options.still_window:
+            person, near = self._check_still(frames.t, sil, person, stands)
         region = sil.region
         if region is not None:  # the guess too: the part of it joined to the player
             anchor = near if near is not None else (person > 0 if person.any() else None)
@@ -254,6 +261,7 @@ class SilhouetteTracker:
             return self._absent(frames, sil, t0, stages)
         if self._started is None:
             self._started = frames.t
+            self._start_frame = self.background.frames
         off = win.ground - self._cam.center
         self._distance = float(np.hypot(off[0], off[2]))
         beta = self.options.beta
@@ -277,6 +285,42 @@ class SilhouetteTracker:
         stages["output"] = time.perf_counter() - tic
         result.extras["stages"] = stages
         return result
+
+    def _check_still(self, t: float, sil: Silhouette, person: NDArray[np.uint8],
+                     stands: Callable[[NDArray[np.bool_]], bool]
+                     ) -> tuple[NDArray[np.uint8], NDArray[np.bool_] | None]:
+        """Add this frame's motion to the track's evidence (:mod:`.stilltrack`); when the
+        track kept what stood still while what it dropped moved, guess again: what it
+        kept is learned as background, the track, the posterior and the body choice
+        are forgotten, and the player is chosen anew among the rest of the
+        foreground. Returns the player's components and the estimate they were
+        chosen near (None after a new guess)."""
+        mv = self.background.moving
+        kept = person > 0
+        dropped = (sil.foreground > 0) & ~kept
+        fit = self._last.extras.get("distance") if self._last is not None else None
+        self._motion.add(t, int((mv & kept).sum()), int((mv & dropped).sum()), mv.size,
+                         float(fit) if isinstance(fit, float | int) else None,
+                         float(dropped.mean()))
+        if not self._motion.wrong():
+            return person, self._last.protect if self._last is not None else None
+        held = kept.copy()  # what the track held: its foreground and its template
+        if self._last is not None and self._last.template is not None:
+            held |= self._last.template > 0
+        self.background.release(held, self._start_frame)
+        self.reguesses += 1
+        self._forget_track()
+        for f in self._filters.values():
+            f.reset()
+        if self.options.body == "auto":  # the body was measured on what was not the player
+            self._filters = {b: TreeFilter(self.tree, self.tree.bodies[b], self.options)
+                             for b in self.tree.bodies}
+            self._body = None
+            self._scores = {b: [] for b in self._filters}
+            self._tops = {b: [] for b in self._filters}
+            self._skeletons = {b: Skeleton.from_shape(b) for b in self._filters}
+        rest = (sil.foreground > 0) & ~held
+        return select_person(rest.astype(np.uint8), None, stands=stands), None
 
     def _undo_failed_start(self, t: float) -> None:
         """A start that did not hold is no track: when the person is lost (no pose for
