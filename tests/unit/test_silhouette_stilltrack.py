@@ -23,46 +23,49 @@ def _feed(motion: TrackMotion, seconds: float, kept: int, dropped: int) -> None:
 
 def test_track_motion_flags_a_track_that_stands_still_while_the_dropped_foreground_moves(
 ) -> None:
-    motion = TrackMotion(1.0, 0.002, 0.2)
+    motion = TrackMotion(1.0, 0.002)
     _feed(motion, 1.2, kept=5, dropped=400)  # 0.5% of the image moves, not in the track
     assert motion.wrong()
 
 
 def test_track_motion_keeps_a_track_whose_own_foreground_moves() -> None:
-    motion = TrackMotion(1.0, 0.002, 0.2)
+    motion = TrackMotion(1.0, 0.002)
     _feed(motion, 1.2, kept=300, dropped=400)  # the track's waving arm moves too
     assert not motion.wrong()
+    slow = TrackMotion(1.0, 0.002)
+    _feed(slow, 1.2, kept=40, dropped=3000)  # a player swaying beside a big mover
+    assert not slow.wrong()
 
 
 def test_track_motion_ignores_small_motion_elsewhere() -> None:
-    motion = TrackMotion(1.0, 0.002, 0.2)
+    motion = TrackMotion(1.0, 0.002)
     _feed(motion, 1.2, kept=0, dropped=50)  # codec specks, a flicker: under 0.2%
     assert not motion.wrong()
 
 
 def test_track_motion_waits_for_a_full_window_and_forgets_on_clear() -> None:
-    motion = TrackMotion(1.0, 0.002, 0.2)
+    motion = TrackMotion(1.0, 0.002)
     _feed(motion, 0.5, kept=0, dropped=1000)  # half a second is not enough evidence
     assert not motion.wrong()
     _feed(motion, 1.2, kept=0, dropped=1000)
     assert motion.wrong()
     motion.clear()
     assert motion.span == 0.0 and not motion.wrong()
-    assert not TrackMotion(0.0, 0.002, 0.2).wrong()  # window 0: off
+    assert not TrackMotion(0.0, 0.002).wrong()  # window 0: off
 
 
 def test_track_motion_flags_a_still_track_that_fits_no_pose_beside_another_candidate(
 ) -> None:
-    motion = TrackMotion(1.0, 0.002, 0.2, poor_fit=0.5)
+    motion = TrackMotion(1.0, 0.002, poor_fit=0.5)
     for i in range(36):  # nothing moves; the track fits at 1.0, a still player stands apart
         motion.add(i / FPS, 0, 0, PIXELS, fit=1.0, others=0.03)
     assert motion.wrong()
 
 
 def test_track_motion_keeps_a_poorly_fitting_track_that_moves_or_has_no_rival() -> None:
-    moving = TrackMotion(1.0, 0.002, 0.2, poor_fit=0.5)
-    alone = TrackMotion(1.0, 0.002, 0.2, poor_fit=0.5)
-    fitting = TrackMotion(1.0, 0.002, 0.2, poor_fit=0.5)
+    moving = TrackMotion(1.0, 0.002, poor_fit=0.5)
+    alone = TrackMotion(1.0, 0.002, poor_fit=0.5)
+    fitting = TrackMotion(1.0, 0.002, poor_fit=0.5)
     for i in range(36):
         # the player with a broken silhouette (legs resolved as the floor): it moves
         moving.add(i / FPS, 200, 0, PIXELS, fit=1.0, others=0.03)

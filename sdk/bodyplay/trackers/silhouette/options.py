@@ -225,15 +225,13 @@ class SilhouetteOptions:
     floor point under the silhouette counts only where it lies within
     ``restart_agree`` (a share) of the distance at which the templates fit what
     moves (:mod:`.shapestart`); until then that distance is used;
-    ``still_window``: a track that, over this many seconds, kept foreground that
-    stood still while the foreground it dropped moved (at least ``still_motion`` of
-    the image per frame on average, and what it kept at most ``still_ratio`` times
-    as much) follows something that is not the player (a photo of a person beside
-    them): what it kept is learned as background and the tracker guesses again
-    (:mod:`.stilltrack`; 0: off); so is a track whose kept foreground has not moved
-    at all over the window and whose median distance (eq. 11) is at least
-    ``still_fit`` (a pictured figure's shreds; the tune captures' tracks stay under
-    0.25; 0: this rule off);
+    ``still_window``: a track whose kept foreground did not move over this many
+    seconds (under a tenth of ``still_motion`` of the image per frame) while the
+    foreground it dropped moved (at least ``still_motion`` per frame), or while its
+    median distance (eq. 11) was at least ``still_fit`` and something else stood
+    in view, follows something that is not the player (a photo of a person beside
+    them): what it held is learned as background and the tracker guesses again
+    (:mod:`.stilltrack`; 0: off; ``still_fit`` 0: only the motion rule);
     ``protect_radius``: how far (share of the working image's short side, so that
     portrait footage is not over-protected) the estimated body is dilated into the
     region the background model must not learn (0.04 gave
@@ -308,7 +306,6 @@ class SilhouetteOptions:
     restart_doubt: float = 3.0
     still_window: float = 1.0
     still_motion: float = 0.002
-    still_ratio: float = 0.2
     still_fit: float = 0.5
     smooth: float = 0.5
     protect_radius: float = 0.12
@@ -377,10 +374,9 @@ class SilhouetteOptions:
             raise ConfigError("restart_within and restart_doubt must be >= 0 seconds (0: no "
                               "restart, no doubt) and restart_agree > 0 (a share of the "
                               "distance)")
-        if (self.still_window < 0 or not 0 < self.still_motion < 1 or self.still_ratio < 0
-                or self.still_fit < 0):
+        if self.still_window < 0 or not 0 < self.still_motion < 1 or self.still_fit < 0:
             raise ConfigError("still_window must be >= 0 seconds (0: off), still_motion a "
-                              "share of the image in (0, 1), still_ratio and still_fit >= 0")
+                              "share of the image in (0, 1) and still_fit >= 0")
         if not 0 <= self.select_motion < 1 or self.select_wait < 0:
             raise ConfigError("select_motion must be a share of the image in [0, 1) and "
                               "select_wait >= 0 seconds")

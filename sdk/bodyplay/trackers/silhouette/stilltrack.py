@@ -7,36 +7,32 @@ player, a statue, a pillar. The tracker then fits its templates to it, protects 
 from being learned, and keeps only the foreground components that touch it
 (:func:`.window.select_person`): the player's own moving limbs, in components of
 their own, are dropped as "a second person". Such a track is never lost, so the
-undo of a start that did not hold (``restart_within``) never sees it, and the fit
-alone does not tell it (a pictured person fits a template as well as the player).
+undo of a start that did not hold (``restart_within``) never sees it, and one
+frame's fit does not tell it (a pictured person can fit a template as well as the
+player).
 
-What tells it is motion, accumulated over time: the player is the one who moves.
-Over the last ``window`` seconds of a track, the pixels that moved (frame to frame,
+What tells it is evidence accumulated over time. Over the last ``window`` seconds
+of a track, the pixels that moved (frame to frame,
 :attr:`.background.BackgroundModel.moving`) are counted in the foreground the track
-keeps and in the foreground it drops. When what it drops moved at least ``share``
-of the image per frame on average and what it keeps moved at most ``ratio`` times
-that, the track follows something that stands still while something else moves,
-and the tracker guesses again (:meth:`.tracker.SilhouetteTracker`: what the track
-kept is learned as background, the track is forgotten).
+keeps and in the foreground it drops. A track is *still* when what it keeps moved
+under a tenth of ``share`` of the image per frame on average: not a limb, not a
+sway, only codec noise. A still track is not the player when
 
-A player who stands still while something else moves (a second person walking
-behind) keeps the track only while that motion stays under ``share``, or their
-own motion over ``ratio`` of it; a player's waving arm is part of the component
-the track keeps, so it counts as the track's own motion.
+* what it drops moved at least ``share`` of the image per frame (the player is the
+  one who moves), or
+* its templates fit it at a median distance (eq. 11) of at least ``poor_fit`` while
+  the foreground it drops covers at least ``other`` of the image (median over the
+  window; the tracker passes the background model's ``min_area``, the smallest
+  blob its clean-up keeps): motion tells nothing when the player stands still
+  too, but a pictured figure's resolution gives shreds no pose fits (distances
+  about 1; the tune captures' tracks stay under 0.25, the still ones under 0.11),
+  and there is something else in view to take instead.
 
-When the player, too, stands still, motion tells nothing; then the fit does. A
-track whose kept foreground has not moved at all over the window (under a tenth
-of ``share`` per frame) and whose templates fit it at a median distance (eq. 11)
-of at least ``poor_fit`` is not a person either: the resolution of a pictured
-figure beside the player gives shreds no pose fits (distances about 1), while the
-tune captures' tracks, moving or not, stay under 0.25 (still ones under 0.11).
-A poor fit alone is not enough: the player with a broken silhouette (legs
-resolved as the floor) fits as badly, and then the kept foreground moves; nor is
-a still poor track without another candidate: the rule asks that the foreground
-the track drops covers at least ``other`` of the image (median over the window),
-so that there is something else to guess (the player standing still beside a
-photo; once the photo is learned as the room, the player's own still track with
-a poor fit is kept).
+The tracker then guesses again (:meth:`.tracker.SilhouetteTracker`: what the track
+held is learned as background, the track is forgotten). A moving track is never
+doubted: a player whose silhouette lost its legs fits as badly as a photo, but
+moves; a player who stands still beside someone who moves, for a whole window,
+is (a second person then takes the track, as it would if the player left).
 """
 
 from __future__ import annotations
@@ -49,16 +45,15 @@ __all__ = ["TrackMotion"]
 
 
 class TrackMotion:
-    """Running sums of the moving pixels a track keeps and drops over a time window
-    (see the module docstring). ``window`` seconds, ``share`` of the image per frame,
-    ``ratio`` of the dropped motion, ``poor_fit`` the median distance of a still track
-    that is not a person (0: off)."""
+    """Running evidence over a track's last ``window`` seconds (see the module
+    docstring): ``share`` of the image per frame that counts as motion, ``poor_fit``
+    the median distance of a still track that is no person (0: that rule off),
+    ``other`` the share of the image the dropped foreground must cover for it."""
 
-    def __init__(self, window: float, share: float, ratio: float, poor_fit: float = 0.0,
-                 other: float = 0.01) -> None:
+    def __init__(self, window: float, share: float, poor_fit: float = 0.0,
+                 other: float = 0.002) -> None:
         self.window = window
         self.share = share
-        self.ratio = ratio
         self.poor_fit = poor_fit
         self.other = other
         self._frames: deque[tuple[float, int, int, int, float]] = deque()
@@ -91,17 +86,19 @@ class TrackMotion:
         return self._frames[-1][0] - self._frames[0][0]
 
     def wrong(self) -> bool:
-        """Whether, over a full window, the track kept what stood still while what it
-        dropped moved, or kept what stood still and fitted no pose (the module
-        docstring's rules)."""
+        """Whether, over a full window, the track was still while what it dropped
+        moved, or was still, fitted no pose and had a rival (the module docstring's
+        rules)."""
         if self.window <= 0 or self.span < 0.9 * self.window:
             return False
         kept = sum(f[1] for f in self._frames)
-        dropped = sum(f[2] for f in self._frames)
         pixels = sum(f[3] for f in self._frames)
-        if dropped >= self.share * pixels and kept <= self.ratio * dropped:
+        if kept > 0.1 * self.share * pixels:
+            return False  # the track moves: it is someone
+        if sum(f[2] for f in self._frames) >= self.share * pixels:
             return True
+        if self.poor_fit <= 0 or len(self._fits) < 0.5 * len(self._frames):
+            return False
         others = float(np.median([f[4] for f in self._frames]))
-        return bool(self.poor_fit > 0 and kept <= 0.1 * self.share * pixels
-                    and others >= self.other and len(self._fits) >= 0.5 * len(self._frames)
+        return bool(others >= self.other
                     and float(np.median([f for _, f in self._fits])) >= self.poor_fit)

@@ -178,7 +178,8 @@ class SilhouetteTracker:
         self._shape_d: float | None = None
         self._bad = 0
         o = self.options
-        self._motion = TrackMotion(o.still_window, o.still_motion, o.still_ratio, o.still_fit)
+        self._motion = TrackMotion(o.still_window, o.still_motion, o.still_fit,
+                                   o.background.min_area)
 
     # ---- the pipeline -------------------------------------------------------------
     def process(self, frames: FrameSet) -> TrackResult:
