@@ -18,6 +18,12 @@ texture everywhere. This check renders a few clips in several rooms:
   ``clothes`` with ``silhouette_bench.py``'s report clips (13_29 from 2 s, 131_03,
   wave-both-hands, punch, raise-up-both-hands, dance-short). Settings are chosen
   on the tune half only; the report half is run to report;
+* **a photo of a person** (``--half photo``, a tune-side check): the tune clips in
+  a generated room ``photo``, the ``brick`` photo with a life-size picture of a
+  person standing beside the player (the actor rendered standing, in the first
+  frame of the Bandai bow, pasted 1.15 times the player's size at the left), as
+  the report rooms' ``astronaut`` photo is: a first guess that takes a picture
+  for the player;
 * each room shows ``--clips-per-room`` clips of its half (room *i* takes clips *i*,
   *i* + 1, ... of the half's list, so every clip is seen in as many rooms);
 * one camera, 640x480, actor ``m``, steady light, the player in view from the
@@ -33,6 +39,7 @@ A capture without any pose counts as the worst (its MPJPE is printed as ``-``).
     nice .venv/bin/python benchmarks/silhouette_rooms.py                 # report half
     nice .venv/bin/python benchmarks/silhouette_rooms.py --half tune --set stance_weight=0
     nice .venv/bin/python benchmarks/silhouette_rooms.py --in brick     # the same clips in brick
+    nice .venv/bin/python benchmarks/silhouette_rooms.py --half photo --clips-per-room 5
     .venv/bin/python benchmarks/silhouette_rooms.py --list
 
 Captures are rendered once into ``--work`` (about 5 s each); tracking a half takes
@@ -73,6 +80,7 @@ BANDAI = DATA / "mocap" / "bandai_namco"
 ROOMS = {
     "tune": ("coffee", "brick", "chelsea", "gravel", "posters"),
     "report": ("astronaut", "camera", "rocket", "grass", "fruit", "clothes"),
+    "photo": ("photo",),
 }
 """Rooms of each half; ``posters``, ``fruit`` and ``clothes`` are generated."""
 CLIPS = {
@@ -84,7 +92,45 @@ CLIPS = {
                ("dataset-2_raise-up-both-hands_normal_001", 0.0),
                ("dataset-1_dance-short_normal_001", 0.0)),
 }
+CLIPS["photo"] = CLIPS["tune"]
 """Clips of each half (name or Bandai file stem, start in seconds)."""
+
+
+def photo_room(work: Path) -> str:
+    """The ``photo`` room's PNG (cached under ``work``): the shipped ``brick`` photo
+    (stretched to 640x480) with a life-size picture of a standing person at the left
+    of the player (the actor of ``bodyplay synth`` in the first frame of the Bandai
+    bow, standing still, cut from a magenta wall, 1.15 times as large as the
+    player, feet near the bottom of the frame)."""
+    path = work / "rooms" / "photo.png"
+    if path.exists():
+        return str(path)
+    import cv2
+
+    from bodyplay.synth.backgrounds import _assets
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = work / "rooms" / f"photo_figure.tmp{os.getpid()}"
+    bow = str(BANDAI / "dataset-1_bow_normal_001.bvh")
+    subprocess.run([sys.executable, "-m", "bodyplay.cli", "synth", "--clip", bow, "--out",
+                    str(tmp), "--frames", "1", "--background", "#ff00ff", "--noise", "none",
+                    "--format", "png"], check=True, stdout=subprocess.DEVNULL)
+    fig = cv2.imread(str(tmp / "cam0" / "000000.png"))
+    shutil.rmtree(tmp, ignore_errors=True)
+    mask = np.abs(fig.astype(int) - np.array([255, 0, 255])).sum(axis=2) > 60
+    ys, xs = np.nonzero(mask)
+    crop = fig[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+    cm = mask[ys.min():ys.max() + 1, xs.min():xs.max() + 1].astype(np.uint8)
+    crop = cv2.resize(crop, None, fx=1.15, fy=1.15, interpolation=cv2.INTER_LINEAR)
+    cm = cv2.resize(cm, None, fx=1.15, fy=1.15, interpolation=cv2.INTER_NEAREST) > 0
+    wall = cv2.resize(cv2.imread(str(_assets() / "brick.jpg")), (640, 480))
+    h, w = cm.shape
+    y0, x0 = max(0, 465 - h), 20
+    h, w = min(h, 480 - y0), min(w, 640 - x0)
+    roi = wall[y0:y0 + h, x0:x0 + w]
+    roi[cm[:h, :w]] = crop[:h, :w][cm[:h, :w]]
+    cv2.imwrite(str(path), wall)
+    return str(path)
 
 
 def short(clip: str) -> str:
@@ -111,7 +157,8 @@ def capture(work: Path, room: str, clip: str, start: float, seconds: float) -> P
     out = work / "captures" / f"{room}_{short(clip)}_{start:g}_{seconds:g}s"
     if not (out / "truth.jsonl").exists():
         src = str(BANDAI / f"{clip}.bvh") if clip.startswith("dataset") else clip
-        background = room_path(work, room) if room in CLUTTER_ROOMS else room
+        background = (room_path(work, room) if room in CLUTTER_ROOMS
+                      else photo_room(work) if room == "photo" else room)
         tmp = out.with_name(f"{out.name}.tmp{os.getpid()}")  # renamed once complete
         cmd = [sys.executable, "-m", "bodyplay.cli", "synth", "--clip", src, "--out", str(tmp),
                "--seconds", str(seconds), "--start", str(start), "--background", background]
@@ -186,7 +233,8 @@ def main(argv: list[str] | None = None) -> int:
     """Render what is missing, track every capture of a half, print the tables."""
     p = argparse.ArgumentParser(description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--half", choices=("tune", "report"), default="report")
+    p.add_argument("--half", choices=("tune", "report", "photo"), default="report",
+                   help="photo: the tune clips in front of a photo of a person (tune side)")
     p.add_argument("--work", default="/tmp/bodyplay_silhouette_rooms",
                    help="cache of rooms and captures (outside the repository)")
     p.add_argument("--seconds", type=float, default=4.0)
