@@ -249,7 +249,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", help="also write the per-capture rows to this file")
     args = p.parse_args(argv)
     if args.list:
-        for half in ("tune", "report"):
+        for half in ("tune", "report", "photo"):
             for room, clip, start in plan(half, args.clips_per_room):
                 print(f"{half:6s} {room:10s} {short(clip)} from {start:g} s")
         return 0
