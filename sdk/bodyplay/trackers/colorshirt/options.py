@@ -19,163 +19,60 @@ __all__ = ["ColorShirtOptions", "options_with_overrides"]
 class ColorShirtOptions:
     """Everything that tunes the color-shirt tracker; defaults follow the paper.
 
-    * ``adaptive_white_balance``: refit ``W`` every frame and keep reference
-      illuminations (paper steps 1 and 5); off = ``W`` from the first frame forever.
-    * ``pose_prior``: pose-assisted reclassification and the IK priors towards the
-      blended and previous poses (steps 3 and 4); off = plain centroid IK.
-      Both off is the paper's comparison baseline (its predecessor, [WP09]).
-    * ``database_size`` poses in the database (paper: 80,000), cached in
-      ``database_cache`` (default ``~/.cache/bodyplay``).
-    * ``threshold`` (T = 3) and ``prior_threshold`` (T = 5) of the classifier,
-      ``prior_strength`` the 6 of ``C = 6 / s`` (12 here: with the paper's 6 a
-      pixel of a patch's colour up to 0.8 shirt sizes from it counted, and rooms
-      in shirt colours pulled the patches), ``retry_fraction`` the 40% test.
-      ``prior_gain_power``: ``C`` is multiplied by ``g ** prior_gain_power``, ``g``
-      the overall gain of the white balance (``det(W) ** (1/3)``, at least 1):
-      an image the balance must amplify is noisier, so the pose prior counts more
-      (beyond the paper; 0 = the paper).
-    * ``wb_smoothing``: weight of the previous ``W`` when the refitted ``W*`` replaces it.
+    One line per option here; what each does and why it exists in detail, with
+    the figures that chose the defaults, in docs/colorshirt.md ("Options").
+
+    * ``adaptive_white_balance``: refit ``W`` every frame, keep reference
+      illuminations (paper steps 1 and 5); ``pose_prior``: pose-assisted
+      reclassification and IK priors (steps 3 and 4). Both off: the paper's baseline.
+    * ``database_size`` poses (paper: 80,000), cached in ``database_cache``.
+    * ``threshold``/``prior_threshold``: the classifier's ``T`` (3 and 5);
+      ``prior_strength``: the 6 of ``C = 6 / s``; ``prior_gain_power``: ``C`` grows
+      with the white balance's gain to this power (a noisier image); ``retry_fraction``:
+      the 40% test; ``reference_distance``: when a new reference ``W`` is stored;
+      ``wb_smoothing``: weight of the previous ``W``.
     * ``background_subtraction``: MOG2 foreground mask for search and classification.
-    * ``work_size``: largest side (px) of the working crop the shirt is classified in;
-      ``crop_margin`` its size relative to the located window; ``blob_fraction``:
-      classified blobs smaller than this fraction of the largest are dropped, unless
-      they lie within ``blob_attach`` of the shirt's extent of the largest (an arm
-      held beside the body, cut off from the torso by its white shoulder cap);
-      ``sleeve_attach``: a blob in two sleeve colors is kept within this larger
-      fraction of the raised upper arms when it lies over the shirt (both forearms
-      raised together over the head, which the head separates from the upper arms;
-      beyond the paper).
-    * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera counts
-      as seeing the shirt (else the frame is lost); ``min_patch_fraction``: the least
-      share of the crop a patch must cover to become an IK anchor.
-    * ``white_std_scale``: the white patches' (right shoulder cap, left flank)
-      centroid constraints count with this many times the standard deviation of
-      the others (beyond the paper, which weighs every patch alike): white is the
-      one shirt color that bright background (walls, tile joints) and highlights
-      share, and stray white pixels at the shirt's outline pull those centroids
-      (1 = the paper).
-    * ``measurement_noise``: std (RGB units) of the camera's measurement error that
-      a strong white balance amplifies; the classifier widens every color's Gaussian
-      by the amplified part (beyond the paper, which uses the fitted covariances as
-      they are: 0). Measured on the benchmark: 6 cuts the dim-light error by a fifth;
-      10 and more let dark background into the dark colors under dim light.
-    * ``max_speed``: fastest plausible root speed (m/s); a fit further than
-      ``0.25 m + max_speed * dt`` from the pose reported within the last second is
-      reported lost rather than as a jump across the room.
-    * ``gate_time``/``gate_speed``: the classification keeps only pixels within
-      ``gate_speed`` times the shirt's size per second elapsed (at least a 30th of
-      a second) of the shirt's box in the last pose reported, for ``gate_time``
-      seconds after it; the search for the shirt starts there too, and the whole
-      frame is searched after.
-    * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic).
-    * ``color_model``/``prior_model``: JSON files replacing the shipped models.
-    * ``body``: body-shape preset of the generic skeleton and mesh (a name of
-      ``BODY_SHAPES``), or ``"auto"``: every preset is fitted on the first
-      ``body_selection_frames`` frames with a pose and the one whose patch anchors
-      reproject best is kept; then its arm-length variants (``ARM_SCALES``, 0.84-1
-      times its arms) are compared the same way over ``arm_selection_frames``
-      frames (0 = keep the preset's arms). Of the arm lengths, the shortest whose
-      mean residual is within ``arm_tolerance`` (a fraction) of the best wins: an
-      arm too long still reprojects well by leaning in depth (one camera cannot see
-      the lean at all), an arm too short cannot reach the observed sleeves.
-      With one camera, a start-up frame counts towards the preset only when the
-      floor cue found the feet no further apart in depth than
-      ``body_choice_max_stagger`` (m): one view cannot tell a small person near
-      from a tall one far, the feet are its only measure of distance, and in a
-      staggered stance they do not say where the pelvis is. After twice
-      ``body_selection_frames`` frames that do not count, the reference preset
-      ``m`` is kept (``inf``: every frame counts).
-    * ``floor_cue``: when one camera sees the shirt, a prior on the root's depth
-      from where the feet meet the floor (beyond the paper; needs a background
-      plate, learned on empty-room frames before the shirt first appears);
-      ``floor_offset`` (m) is added to the depth of the root above the feet (the
-      nearest pixel of a foot, the lowest in the image, lies in front of the
-      pelvis: 11 cm on the validation set's tune half), ``floor_std`` (m) the
-      reading's standard deviation.
-    * ``depth_accel``: with one camera the floor readings and the body's size
-      (the depth at which the skeleton's lengths project as large as the shirt
-      looks) are combined over time by one extended Kalman filter on the root's
-      depth, its speed and the player's size relative to the reference body
-      (:class:`.depth.RootDepthFilter`); this is its acceleration std (m/s²).
-      ``shirt_depth_std`` is the std of the shirt's reading as a fraction of the
-      depth, ``body_scale_std`` the prior std of the player's size relative to
-      the reference body (what a missing floor cue costs, as a fraction of the
-      depth); readings more than 3 standard deviations from the prediction
-      (feet off the floor, a wrong fit) are left out. The IK holds the root at
-      the filter's depth with the std ``depth_pin_std`` (m; the filter already
-      weighed the shirt's size) once the feet told it; the filter's std,
-      combined with how far the reported root departs from the filter's depth,
-      is reported per frame as ``depth_std``.
-    * ``stance_cue``: the filter also reads the root's height on the ray through
-      where the fit sees it: a player standing on the floor holds the root at
-      the legs' length, which ties the player's size to the depth without the
-      feet (the camera's calibrated height is the ruler) and tells when the feet
-      leave the floor (their floor readings are then left out). Off by default:
-      on the validation report half every one-camera median is 0.3-4 cm better
-      without it, and on a jumping clip (13_29 after an empty room) the feet's
-      depth with it is 8.3 cm off against 7.1 without (docs/colorshirt.md).
-    * ``head_cue``: in every camera, the head found in the plate's foreground above
-      the collar constrains the head joint in the IK (beyond the paper; needs the
-      plate as ``floor_cue`` does); ``head_offset`` (m) is how far the visible head's
-      centre lies above the joint, ``head_std`` (m) the constraint's standard
-      deviation.
-    * ``arm_search``: each arm of the placed blend is replaced by the arm
-      configuration (of ``arm_library``, spread over the database's arms) whose
-      shirt points best match the classified pixels in every camera, by a
-      truncated chamfer distance (``arm_tau`` shirt sizes);
-      the best few are blended with weights ``exp(-cost / arm_temperature)``
-      (beyond the paper; see :mod:`.armsearch`). ``arm_shortlist``: how many
-      candidates per arm the model-to-image cost passes on to the pairwise stage,
-      which also charges observed arm pixels left unexplained.
-    * ``arm_search_one_camera``: run the arm search when a single camera sees the
-      shirt too, once the body is chosen. One view cannot tell an arm's lean in
-      depth, so each candidate also pays ``arm_depth_pull`` per (10 cm)² of mean
-      squared distance between its elbow and wrist and the blend's (relative to
-      the neck): the image picks the arm's outline, the database blend its depth.
-    * ``plate_mask``: once the background plate is learned (``floor_cue`` or
-      ``head_cue``, from empty-room frames before the shirt appears), only pixels
-      that differ from it are classified. MOG2's mask counts the player's last box
-      as foreground (so a player who stands still does not fade), which leaves
-      the background right next to the shirt unmasked; under dim light the
-      classifier took dark floor there for the dark sleeve colors. With at most
-      ``plate_mask_alone_cameras`` cameras the plate's mask replaces MOG2's
-      (which then only narrows the search): MOG2 absorbs an arm held still once
-      one frame missed it, and with one camera no other view makes up for it.
-    * ``room_plate``: learn the room from what the player uncovers
-      (:class:`.plate.RoomPlate`: still pixels outside the reported pose's
-      silhouette, grown by ``room_margin`` times its size, after a good fit) and
-      classify only pixels unlike it or not yet learned; works when the player
-      starts in view.
-    * ``good_residual``: a fit whose patch anchors reproject within this many shirt
-      sizes on average is *good*: only good fits teach the room plate, judge the
-      body presets, and override the speed gate (two good fits in a row that agree
-      with each other take over from a pose reported before them that they are
-      too far from).
-    * ``start_candidates``: with any number of cameras, whenever no camera tracks
-      the shirt (the start, or after ``gate_time`` without a pose), the
-      histogram search keeps up to this many shirt-like regions
-      per camera, each classified without MOG2's mask. Every combination of one
-      region (or none) per camera is a hypothesis; it counts only if MOG2 saw
-      motion in each of its regions (with ``background_subtraction``) and its fit
-      is plausible with the root within ``start_root_band`` (fractions of the
-      body's standing pelvis height: the player starts upright); the track
-      starts on the one with the most cameras, then the lowest residual. A
-      poster or a fruit bowl more colorful than the shirt does not move and fits
-      no upright torso that both cameras see; with one camera the motion test
-      and the upright root (on the shirt's-size depth) do the choosing, the
-      region a track would find (searched with the motion mask) is offered too,
-      the fit must anchor 6 of the 20 patches and the one anchoring the most
-      starts (then the lowest residual), and a region that never moved starts
-      only if its fit anchors 8 (a player waiting still; else it is held, not
-      learned as room). 1: the most colorful region only.
-    * ``start_agreement_frames``: with several cameras, a track that one camera
-      alone started does not lock the others: each frame its tracked view is
-      combined with every other camera's regions (where a track would search
-      there, and its whole frame's candidates); the first plausible upright
-      hypothesis with more cameras re-starts the track from scratch. Until then
-      the lone camera's pose (its depth the shirt's size alone) is tracked but
-      not reported. After this many frames without one, it is reported and
-      gates every camera as a track does (0: at once).
+    * ``work_size``/``crop_margin``: the working crop; ``blob_fraction``,
+      ``blob_attach``, ``sleeve_attach``: which classified blobs are kept.
+    * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera sees
+      the shirt; ``min_patch_fraction``: the least share of a patch to anchor the IK.
+    * ``white_std_scale``: the white patches' constraints count with this many times
+      the others' std (white is what bright background shares).
+    * ``measurement_noise``: RGB std of camera noise that a strong ``W`` amplifies;
+      the classifier widens every color's Gaussian by it.
+    * ``max_speed`` (m/s): a fit further than ``0.25 m + max_speed * dt`` from the
+      last reported pose is reported lost; ``gate_time``/``gate_speed``: how long and
+      how widely the last reported shirt's box gates classification and search.
+    * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic);
+      ``color_model``/``prior_model``: JSON files replacing the shipped models.
+    * ``body``: a preset of ``BODY_SHAPES`` or ``"auto"`` (chosen over
+      ``body_selection_frames`` frames, then the arm lengths ``arm_scales`` over
+      ``arm_selection_frames``, the shortest within ``arm_tolerance`` of the best);
+      ``body_choice_max_stagger`` (m): with one camera, a frame judges the presets
+      only when the feet stand no further apart in depth.
+    * ``floor_cue``: the root's depth from where the feet meet the floor
+      (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
+      ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
+      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
+      ``stance_cue``: the filter also reads the root's height (off by default).
+    * ``head_cue``: the head above the collar anchors the head joint
+      (``head_offset``, ``head_std``, m).
+    * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
+      chamfer (``arm_tau``), blended by ``arm_temperature``, ``arm_shortlist`` per
+      arm to the pairwise stage (:mod:`.armsearch`); ``arm_search_one_camera``: with
+      one camera too, each candidate paying ``arm_depth_pull`` for leaving the
+      blend's depth.
+    * ``plate_mask``: classify only pixels unlike the learned background plate (it
+      replaces MOG2's mask with at most ``plate_mask_alone_cameras`` cameras);
+      ``room_plate``: learn the room from what the player uncovers (silhouette grown
+      by ``room_margin``), so a player may start in view.
+    * ``good_residual``: a fit reprojecting within this many shirt sizes is *good*
+      (teaches the room plate, judges the body, overrides the speed gate).
+    * ``start_candidates``: shirt-like regions per camera tried when nothing is
+      tracked, a start's root within ``start_root_band`` of the standing pelvis
+      height; ``start_agreement_frames``: how long a one-camera start waits for
+      another camera to agree before it is reported.
+    * ``locate``: the histogram search (:class:`.locate.LocateOptions`).
     """
 
     adaptive_white_balance: bool = True
