@@ -2,11 +2,9 @@
 
 The database is looked up with the whole shirt, so a pose is only found when the
 torso *and both arms* resemble one stored pose: the coverage of two arms together
-is the product of each arm's. On the held-out test clips the nearest stored pose
-is 13-15 cm away at the elbows (punch), while the nearest stored *arm* (relative to
-the shoulder, in the neck's frame) is 2-3 cm away. The IK, started from the right
-pose, lands within 3-4 cm (two cameras); started from the blend it inherits the
-blend's wrong arms.
+is the product of each arm's: the nearest stored *arm* (relative to the shoulder,
+in the neck's frame) lies much nearer than the nearest whole pose, and the IK,
+started from the blend, inherits the blend's wrong arms.
 
 So, after the 6-DOF fit of the blend, each arm is replaced by the library's arm that
 best explains the classified pixels in every camera, the torso staying where the
@@ -23,14 +21,12 @@ color on either arm. The blend's own arm and the previous frame's arm are
 candidates too. The best few of each arm are blended (weights falling off
 exponentially with the score), as the database blends its neighbours.
 
-Measured (two cameras, validation clips): 7.04 -> 5.51 cm upper-body MPJPE. With one
-camera the chamfer cannot tell an arm's depth: among arms with the same outline it
-picks one leaning in depth at random, and the search alone made one camera worse
-(validation 10.99 -> 11.66 cm). There each candidate also pays ``pull`` per (10 cm)²
-of mean squared distance of its elbow and wrist from the blend's, relative to the
-neck, so the outline comes from the image and the lean from the database; run once
-the body is chosen, that took one camera's validation error 10.99 -> 9.49 cm (test
-8.35 -> 7.58). With two cameras the pull only costs (4.06 -> 4.23): they see depth.
+With one camera the chamfer cannot tell an arm's depth: among arms with the same
+outline it picks one leaning in depth at random. There each candidate also pays
+``pull`` per (10 cm)² of mean squared distance of its elbow and wrist from the
+blend's, relative to the neck, so the outline comes from the image and the lean from
+the database (run once the body is chosen). Two cameras see depth: no pull.
+The figures are in docs/colorshirt.md.
 
 This is beyond the paper (which blends whole database poses); it changes only the
 starting point and the blend prior of the IK that follows, not the IK itself.
@@ -263,9 +259,8 @@ class ArmSearch:
         arm but leaves part of it unexplained (too short, bent, pointing away).
         Stage 1 alone favours such arms (a forearm folded across the upper arm's
         pixels costs little), so the shortlist must be long enough to hold the arm
-        that also explains the rest: with 8 per arm the wave clip's raised right
-        forearm was held folded for 10-25 frames, with 24 it was not (two cameras,
-        test clips 4.06 -> 3.92 cm, validation 4.41 either way).
+        that also explains the rest (with 8 per arm a raised forearm was held
+        folded).
 
         ``pull`` (for one camera, which cannot see an arm's lean in depth) adds, per
         (10 cm)² of mean squared distance of a candidate's elbow and wrist from the

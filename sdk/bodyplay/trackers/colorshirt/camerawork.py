@@ -58,8 +58,7 @@ moved (a player sways; a poster in shirt colours does not: 0-0.4%)."""
 _WARMUP = 1
 """Frames MOG2 learns before its mask is used: from the second frame on, what moved
 is foreground (with the torso's box, see :meth:`CameraWork.view`), so room clutter in
-shirt colours that never moves leaves the classification (tune half, two cameras,
-player in view: 10 frames 13.6 cm, 1 frame 8.1)."""
+shirt colours that never moves leaves the classification."""
 
 _TORSO_PATCHES = np.array([p.id for p in PATCHES if p.bone in ("thorax", "lumbar")])
 """The shirt's torso patches (front, back, flanks)."""
@@ -180,9 +179,8 @@ class CameraWork:
             # until the first pose is reported the plate learns every frame: a
             # colourful empty room has shirt-like regions that the search finds
             # and the colour test then rejects, and learning only where nothing
-            # was found left the plate unready (the tune half's coffee-room clips:
-            # no floor or head cue after the empty room; punch 24.6 -> 11.1 cm
-            # with one camera, 11.8 -> 5.2 with two); a start frame learns it
+            # was found left the plate unready (no floor or head cue after the
+            # empty room); a start frame learns it
             # once the tracker has judged its regions (:meth:`learn_room`)
             st.floor.no_shirt()
         if mask is not None and st.last_box is not None and st.torso_box is not None:
@@ -192,8 +190,7 @@ class CameraWork:
             # tells the room from a still arm). A player in view from the first
             # frame: a first fit that put an arm into a poster in shirt colours
             # kept the poster as foreground in the shirt's box frame after frame,
-            # and the arm stayed in it (tune half's in-view clips, first second
-            # 20-40 cm off)
+            # and the arm stayed in it
             bx0, by0, bx1, by1 = st.torso_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
             empty = st.room.empty_room

@@ -41,8 +41,7 @@ HEAD_PATCH = NUM_PATCHES + 1
 _HEAD_NODE = NODE_NAMES.index("head")
 _HEAD_FIT_STD = 0.06
 """Metres: how far the reported head may be from the fitted pose's head and still
-cost only one standard deviation (measured: 0.06 m kept the steady test clips'
-head error at 2.0 cm and took dim light's from 5.3 to 4.1 cm)."""
+cost only one standard deviation (what keeps dim light's head error down)."""
 _NO_ANCHORS = PatchAnchors(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0, np.int64),
                            np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64))
 _HEAD_TOP = NODE_NAMES.index("head_top")
@@ -94,9 +93,8 @@ def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
     the root nearer than the feet below it (by the height times the sine of its
     tilt: 12 cm for a 7.5 degree tilt and a 0.93 m pelvis), which a constant
     offset on the feet's depth missed. Two cameras that see the shirt
-    triangulate its depth better than the feet tell it (on the validation clips
-    the cue made two cameras 0.1 cm worse), so the cue only serves a frame that
-    one camera sees.
+    triangulate its depth better than the feet tell it, so the cue only serves
+    a frame that one camera sees.
     """
     if len(views) != 1 or not options.floor_cue:
         return FloorReading()
@@ -172,8 +170,7 @@ def head_from_cue(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[
 
     The IK pulls the head anchor towards the heads found, but the skeleton's
     neck-to-head length is the preset's, so the anchor ends between them and the
-    shoulder patches: with two cameras the reported head came out 3-4 cm below
-    the true one on every test clip. Here the anchor point of the fitted pose
+    shoulder patches, below the true head. Here the anchor point of the fitted pose
     (``head_offset`` above the head joint along the head's axis) is moved to the
     point nearest to all rays through the found centres (each with the head
     cue's ``head_std``), pulled towards where the pose put it with a standard

@@ -5,9 +5,9 @@ One camera cannot tell a small person near from a tall one far. Three cues tell
 the root's depth ``d`` along the camera's axis, each with a stated noise:
 
 * the **feet on the floor** (:mod:`.floor`): where the lowest pixels of the
-  person meet the floor, raised to the root's height; about 5 cm when the feet
-  stand on the floor, metres off when they leave it (a foot 18 cm up reads about
-  50 cm too far at 3 m), absent without a background plate;
+  person meet the floor, raised to the root's height; a few cm when the feet
+  stand on the floor, metres off when they leave it, absent without a background
+  plate;
 * the **body's known lengths**: the torso's patch anchors fitted to the image
   without any depth prior (:meth:`.ik.KinematicSolver.solve_global`) put the
   root at the depth where the skeleton's metric lengths project as large as the
@@ -40,15 +40,14 @@ placing the root's pixel a little off; prior ``stance_bias_std``).
 Each reading is left out when its innovation exceeds ``gate`` variances, and
 two are one-sided: feet and a root that leave the floor do so upwards only. A
 floor reading further than predicted by more than one standard deviation of
-the innovation is left out (a hop's rising feet passed the symmetric gate a
-little at a time and dragged the depth 16 cm too far), and so is one at whose
+the innovation is left out (a hop's rising feet passed a symmetric gate a
+little at a time and dragged the depth too far), and so is one at whose
 depth the root would stand higher than the legs are long by more than two
-standard deviations (``air_gate``: the feet are in the air, the validation's
-hop clips); a
-stance reading that puts the root that high is left out too (a jump), and one
-far below standing (a crouch) by ``gate``. A player who really walks away is
-followed through the shirt's and the stance's readings, or after
-``max_rejects`` floor readings in a row. Beyond the paper.
+standard deviations (``air_gate``: the feet are in the air); a stance reading
+that puts the root that high is left out too (a jump), and one far below
+standing (a crouch) by ``gate``. A player who really walks away is followed
+through the shirt's and the stance's readings, or after ``max_rejects`` floor
+readings in a row. Beyond the paper.
 
 Per frame: :meth:`RootDepthFilter.begin` (predict; the feet's floor reading),
 :meth:`RootDepthFilter.posterior` for each candidate fit (its readings folded
@@ -95,10 +94,8 @@ class RootDepthFilter:
     body's standing root height ``h0`` (m; 0: no stance reading);
     ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
     of this player's stance bias (m); ``shirt_bias``, ``shirt_bias_std``: the prior
-    mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``;
-    tune half: clip means -6% to +12%, mean +3%; the prior mean is 0: with +3%
-    the ninja's colour-shirt game missed a hit, and the validation report half is
-    the same within its noise either way); ``gate``: squared innovation, in
+    mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``);
+    ``gate``: squared innovation, in
     variances, beyond which a reading is left out (``air_gate`` above standing:
     a stance reading further above, and a floor reading whose depth puts the
     root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
@@ -332,10 +329,8 @@ class RootDepthFilter:
         """Whether the shirt's reading ``shirt`` (None: none) leaves the floor reading
         ``floor`` possible: their depths, each with its own and the player's
         uncertainty, within ``gate`` variances. Floor readings that keep disagreeing
-        with the filter restart it only then: feet read 7.5 m away for 15 frames
-        while the shirt said 4-5 m (clothes piled on the floor next to the player,
-        true depth 3.3 m) restarted it there, pinned (tune half, one camera, lamp
-        switch, raise-up-both 197 -> 68 cm)."""
+        with the filter restart it only then (clothes piled on the floor next to
+        the player, read as far feet, restarted it there otherwise)."""
         x, P = self._from_floor(floor)
         if shirt is None or not (np.isfinite(shirt) and shirt > 0):
             return True

@@ -139,112 +139,87 @@ class ColorShirtOptions:
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
+        for name, lo, hi, lo_open, unit in _RANGES:
+            value = getattr(self, name)
+            if not (np.isfinite(value) and (lo < value if lo_open else lo <= value)
+                    and value <= hi):
+                interval = f"({lo}, {hi}]" if lo_open else f"[{lo}, {hi}]"
+                what = "a positive number" if hi == _INF else f"within {interval}"
+                raise ConfigError(f"{name} must be {what}{unit}, got {value} "
+                                  f"(default {getattr(ColorShirtOptions, name)})")
+        for name in _FRACTIONS:
+            value = getattr(self, name)
+            if not (np.isfinite(value) and 0 <= value < 1):
+                raise ConfigError(f"{name} must be a fraction within [0, 1), got {value}")
         if self.database_size < 20:
             raise ConfigError("database_size must be at least 20 poses (the paper uses 80,000)")
         if not 0 < self.threshold <= self.prior_threshold:
             raise ConfigError("need 0 < threshold <= prior_threshold (paper: 3 and 5)")
-        if not 0 <= self.retry_fraction <= 1:
-            raise ConfigError("retry_fraction must be within 0..1 (paper: 0.4)")
         if self.reference_distance <= 0 or self.prior_strength < 0:
             raise ConfigError("reference_distance must be > 0 and prior_strength >= 0")
-        if not 24 <= self.work_size <= 640:
-            raise ConfigError("work_size must be between 24 and 640 pixels")
         if self.crop_margin < 1.0:
             raise ConfigError("crop_margin must be at least 1 (the located window itself)")
-        for name, value in (("wb_smoothing", self.wb_smoothing),
-                            ("blob_fraction", self.blob_fraction),
-                            ("blob_attach", self.blob_attach),
-                            ("sleeve_attach", self.sleeve_attach),
-                            ("min_color_fraction", self.min_color_fraction),
-                            ("min_patch_fraction", self.min_patch_fraction)):
-            if not (np.isfinite(value) and 0 <= value < 1):
-                raise ConfigError(f"{name} must be a fraction within [0, 1), got {value}")
-        if not 1 <= self.min_colors <= 10:
-            raise ConfigError("min_colors must be between 1 and 10")
         if self.start_candidates < 1:
             raise ConfigError("start_candidates must be at least 1 (default 3)")
-        if not 0 <= self.start_agreement_frames <= 10_000:
-            raise ConfigError("start_agreement_frames must be between 0 (a lone camera's "
-                              "start gates the others at once) and 10000 (default 30)")
         lo, hi = self.start_root_band
         if not 0 <= lo < hi:
             raise ConfigError("start_root_band must be (low, high) fractions of the standing "
                               "pelvis height with 0 <= low < high (default (0.6, 1.3))")
-        if not 0 < self.max_mismatch <= 1:
-            raise ConfigError("max_mismatch must be within (0, 1]")
         if self.body != "auto" and self.body not in BODY_SHAPES:
             raise ConfigError(f"unknown body preset {self.body!r}; choose 'auto' or one of "
                               f"{', '.join(BODY_SHAPES)}")
-        if not 0 <= self.measurement_noise <= 9:
-            raise ConfigError("measurement_noise must be within 0..9 RGB units (default 6; "
-                              "larger values let background into the dark shirt colors)")
-        if not (np.isfinite(self.gate_time) and self.gate_time > 0):
-            raise ConfigError("gate_time must be a positive time in seconds (default 0.34)")
-        if not (np.isfinite(self.gate_speed) and self.gate_speed > 0):
-            raise ConfigError("gate_speed must be a positive number of shirt sizes per second "
-                              "(default 7.5)")
-        if not (np.isfinite(self.max_speed) and self.max_speed > 0):
-            raise ConfigError("max_speed must be a positive speed in m/s (default 5)")
-        if not 1 <= self.body_selection_frames <= 300:
-            raise ConfigError("body_selection_frames must be between 1 and 300")
-        if not 0 <= self.arm_selection_frames <= 300:
-            raise ConfigError("arm_selection_frames must be between 0 (off) and 300")
-        if not (np.isfinite(self.prior_gain_power) and 0.0 <= self.prior_gain_power <= 4.0):
-            raise ConfigError("prior_gain_power must be within 0 (the paper's C = 6 / s) and 4 "
-                              "(default 2)")
-        if not (np.isfinite(self.white_std_scale) and 1.0 <= self.white_std_scale <= 20.0):
-            raise ConfigError("white_std_scale must be within 1 (white patches count like "
-                              "the others, as in the paper) and 20 (default 3)")
         scales = tuple(self.arm_scales)
         if (not scales or not all(np.isfinite(a) and 0.5 <= a <= 1.5 for a in scales)
                 or not any(abs(a - 1.0) < 1e-9 for a in scales)):
             raise ConfigError("arm_scales must be arm-length factors within 0.5..1.5 that "
                               f"include 1 (the preset's own arms), got {self.arm_scales}")
-        if not (np.isfinite(self.arm_tolerance) and 0.0 <= self.arm_tolerance <= 0.5):
-            raise ConfigError("arm_tolerance must be within 0 (the best residual wins) and "
-                              "0.5 (default 0.05)")
-        if not (np.isfinite(self.floor_offset) and abs(self.floor_offset) <= 0.5):
-            raise ConfigError("floor_offset must be within -0.5..0.5 m (default 0.11)")
-        if not (np.isfinite(self.depth_accel) and 0.0 < self.depth_accel <= 50.0):
-            raise ConfigError("depth_accel must be within 0 and 50 m/s^2 (default 3)")
-        for name, value, hi in (("shirt_depth_std", self.shirt_depth_std, 1.0),
-                                ("body_scale_std", self.body_scale_std, 0.5),
-                                ("depth_pin_std", self.depth_pin_std, 1.0)):
-            if not (np.isfinite(value) and 0.001 <= value <= hi):
-                raise ConfigError(f"{name} must be within 0.001 and {hi} (default "
-                                  f"{getattr(ColorShirtOptions, name)})")
-        if not (np.isfinite(self.floor_std) and 0.005 <= self.floor_std <= 1.0):
-            raise ConfigError("floor_std must be within 0.005..1 m (default 0.05)")
-        if not (np.isfinite(self.head_offset) and abs(self.head_offset) <= 0.2):
-            raise ConfigError("head_offset must be within -0.2..0.2 m (default 0.02)")
-        if not (np.isfinite(self.head_std) and 0.002 <= self.head_std <= 1.0):
-            raise ConfigError("head_std must be within 0.002..1 m (default 0.02)")
-        if not 1 <= self.arm_library <= 100_000:
-            raise ConfigError("arm_library must be between 1 and 100,000 arm configurations "
-                              "(default 1000)")
-        if not (np.isfinite(self.arm_temperature) and 0 <= self.arm_temperature <= 1):
-            raise ConfigError("arm_temperature must be within 0 (take the best arm) and 1 "
-                              "(default 0.02)")
-        if not 1 <= self.arm_shortlist <= 200:
-            raise ConfigError("arm_shortlist must be between 1 and 200 candidates per arm "
-                              "(default 24)")
         if not self.body_choice_max_stagger > 0.0:  # NaN fails too
             raise ConfigError("body_choice_max_stagger must be a positive distance in metres "
                               "(default 0.15; inf lets every one-camera frame judge the body)")
-        if not (np.isfinite(self.room_margin) and 0.0 <= self.room_margin <= 1.0):
-            raise ConfigError("room_margin must be within 0..1 of the silhouette's size "
-                              "(default 0.1)")
-        if not (np.isfinite(self.good_residual) and 0.0 < self.good_residual <= 1.0):
-            raise ConfigError("good_residual must be within (0, 1] shirt sizes (default 0.09)")
-        if not 0 <= self.plate_mask_alone_cameras <= 16:
-            raise ConfigError("plate_mask_alone_cameras must be between 0 (always both masks) "
-                              "and 16 (default 1: a one-camera rig masks with the plate alone)")
-        if not (np.isfinite(self.arm_depth_pull) and 0.0 <= self.arm_depth_pull <= 10.0):
-            raise ConfigError("arm_depth_pull must be within 0 (no pull towards the blend's "
-                              "arms) and 10 (default 0.01)")
-        if not (np.isfinite(self.arm_tau) and 0.01 <= self.arm_tau <= 2.0):
-            raise ConfigError("arm_tau must be within 0.01..2 shirt sizes (default 0.15)")
         if self.initial_white_balance is not None:
             W = np.asarray(self.initial_white_balance, dtype=float)
             if W.shape != (3, 3) or not np.all(np.isfinite(W)):
                 raise ConfigError("initial_white_balance must be a finite 3x3 matrix")
+
+
+_FRACTIONS = ("wb_smoothing", "blob_fraction", "blob_attach", "sleeve_attach",
+              "min_color_fraction", "min_patch_fraction")
+"""Options that must be a fraction within [0, 1)."""
+
+_INF = float("inf")
+_RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
+    ("retry_fraction", 0, 1, False, ""),
+    ("work_size", 24, 640, False, " pixels"),
+    ("min_colors", 1, 10, False, " colors"),
+    ("start_agreement_frames", 0, 10_000, False,
+     " frames (0: a lone camera's start gates the others at once)"),
+    ("max_mismatch", 0, 1, True, ""),
+    ("measurement_noise", 0, 9, False,
+     " RGB units (larger values let background into the dark shirt colors)"),
+    ("gate_time", 0, _INF, True, " (seconds)"),
+    ("gate_speed", 0, _INF, True, " (shirt sizes per second)"),
+    ("max_speed", 0, _INF, True, " (m/s)"),
+    ("body_selection_frames", 1, 300, False, " frames"),
+    ("arm_selection_frames", 0, 300, False, " frames (0: off)"),
+    ("prior_gain_power", 0.0, 4.0, False, " (0: the paper's C = 6 / s)"),
+    ("white_std_scale", 1.0, 20.0, False, " (1: white patches count like the others)"),
+    ("arm_tolerance", 0.0, 0.5, False, " (0: the best residual wins)"),
+    ("floor_offset", -0.5, 0.5, False, " m"),
+    ("depth_accel", 0.0, 50.0, True, " m/s^2"),
+    ("shirt_depth_std", 0.001, 1.0, False, ""),
+    ("body_scale_std", 0.001, 0.5, False, ""),
+    ("depth_pin_std", 0.001, 1.0, False, " m"),
+    ("floor_std", 0.005, 1.0, False, " m"),
+    ("head_offset", -0.2, 0.2, False, " m"),
+    ("head_std", 0.002, 1.0, False, " m"),
+    ("arm_library", 1, 100_000, False, " arm configurations"),
+    ("arm_temperature", 0, 1, False, " (0: take the best arm)"),
+    ("arm_shortlist", 1, 200, False, " candidates per arm"),
+    ("room_margin", 0.0, 1.0, False, " of the silhouette's size"),
+    ("good_residual", 0.0, 1.0, True, " shirt sizes"),
+    ("plate_mask_alone_cameras", 0, 16, False,
+     " cameras (0: always both masks; 1: a one-camera rig masks with the plate alone)"),
+    ("arm_depth_pull", 0.0, 10.0, False, " (0: no pull towards the blend's arms)"),
+    ("arm_tau", 0.01, 2.0, False, " shirt sizes"),
+)
+"""Numeric options checked against a range: (name, low, high, low excluded, unit)."""

@@ -70,9 +70,8 @@ _ROOT_HEIGHT = (0.3, 1.4)
 """Metres above the floor (world y = 0) where a lone camera's fitted root may be: one
 camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
 pile of clothes on the floor, 5 m too far) put the root deep under the floor. The top
-is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump: with 1.6, fits
-of a clothes rail 1-1.5 m from the camera stood at 1.5 m (validation report half,
-one camera, lamp switch worst clip 131.0 -> 83.4 cm, mixed 111.7 -> 74.1)."""
+is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump (a clothes rail
+near the camera fitted higher; docs/colorshirt.md)."""
 
 
 _STILL_PATCHES = 8
@@ -80,12 +79,9 @@ _STILL_PATCHES = 8
 move in must anchor for the region to start the track anyway: a player standing
 still facing the camera shows about 10 (the ninja's virtual player waiting for its
 first gesture: 10), while clutter in shirt colours whose fit passes the upright test
-showed 2-5 (tune half, one camera, after an empty room: the posters of the kick clip,
-the clothes of 13_29 and raise-up-left); those regions are held instead (not started
-on, and not learned by the room plates). With several cameras a still region is
-always held: a start from one camera's region is placed by the shirt's size alone
-(tune half, two cameras, with the rule: in view 6.37 / 12.4 -> 7.84 / 68.9 cm,
-raise-up-left started on the clothes rail)."""
+showed 2-5; those regions are held instead (not started on, and not learned by the
+room plates). With several cameras a still region is always held: a start from one
+camera's region is placed by the shirt's size alone."""
 
 _START_PATCHES = 6
 """Patches of the shirt (of 20) that the fit of any start region must anchor with one
@@ -94,10 +90,8 @@ the one anchoring the most starts the track: how much of the shirt's layout a fi
 explains tells the player from shirt-coloured clutter, its residual does not (a fit
 of 3 patches reprojects as well as one of 10). A player facing the camera shows 7-11;
 in the clothes room under coloured light the first frames offered the shirt merged
-with the clothes rail behind it (9-10 patches, its root 0.3 m too high: not upright)
-and a moving piece of it (3-5 patches, residual 0.004-0.04), which started the track
-1-2 m off (tune half, one camera, raise-up-both under the lamp switch 161.8 ->
-68.4 cm with the motion-masked region below)."""
+with the clothes rail behind it (not upright) and a moving piece of it (3-5
+patches, low residual), which started the track 1-2 m off."""
 
 
 def _torso_length(skeleton: Skeleton) -> float:
@@ -323,9 +317,7 @@ class ColorShirtTracker:
         (``start_agreement_frames``). One camera too: its start was the
         most colourful region, and with the player in view a still poster or fruit
         bowl in shirt colours was that region, or (its fit rejected) MOG2 had
-        absorbed a player standing still by the next frame and nothing was found
-        (tune half, one camera: empty room first median 14.9 -> 11.3 cm, worst
-        47.6 -> 27.0; in view the wave-both clip 0 -> 99% of frames with a pose)."""
+        absorbed a player standing still by the next frame and nothing was found."""
         return self.options.start_candidates > 1 and (
             self._alone is not None or all(st.last_box is None for st in self._cams))
 
@@ -418,8 +410,7 @@ class ColorShirtTracker:
         residual so far (the reference body's before any frame could judge), and on
         the deciding frame the chosen body's. Reporting the reference body until the
         choice cost a third of a second of poor poses: a body too broad for the
-        player fits the shirt's outline by turning, and on the punch clip one shoulder
-        stood 25 cm too deep for 15 frames (one camera, steady: 6.13 -> 5.69 cm).
+        player fits the shirt's outline by turning.
 
         With one camera the presets are judged only on frames where the feet tell
         the distance (``body_choice_max_stagger``), without the arm search (its arms
@@ -530,8 +521,7 @@ class ColorShirtTracker:
         ``search_one``: whether a frame that one camera sees gets the arm search
         (``arm_search_one_camera``). The start-up's candidates are judged without
         it: its arms fit every preset's size about equally, and the choice got
-        noisier (validation 10.42 cm with the search from the first frame, 9.71
-        from the arm-length stage on, 9.49 after it).
+        noisier.
         """
         o = self.options
         lead = min(views, key=lambda v: v.distance)
@@ -594,15 +584,11 @@ class ColorShirtTracker:
         reading (``diagnostics["shirt_depth"]``, scaled to the reference body's
         size). Once the feet told the depth, the filter is the one place that weighs
         the depth cues, and the IK's prior holds the root at its depth with
-        ``depth_pin_std`` (with the filter's own std there, 5 cm, the IK followed
-        the shirt's noisy size again: benchmark wave clip 5.95 cm against 5.60
-        with 1 cm). Without the feet the filter's depth is the rigid fit's shirt
-        size smoothed, and the IK's articulated fit of the shirt reads it better:
-        the IK then starts from the shirt's own depth with a prior of the
-        filter's std (pinned, or started at the filter's depth, which the IK's
-        prior towards the blend holds as well, the tune half's in-view clips got
-        2-10 cm worse, and the hop clip drifted 65 cm near and lost half its
-        frames).
+        ``depth_pin_std`` (with the filter's own, looser std the IK followed the
+        shirt's noisy size again). Without the feet the filter's depth is the rigid
+        fit's shirt size smoothed, and the IK's articulated fit of the shirt reads
+        it better: the IK then starts from the shirt's own depth with a prior of
+        the filter's std (pinning it there made the in-view clips worse).
         """
         placed = q
         q = self.solver.solve_global(placed, anchors)
@@ -625,7 +611,6 @@ class ColorShirtTracker:
         priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
         # fitted again at that depth: at the shirt's own depth the fit leans the torso
         # to make up for a wrong size, and the IK's prior towards it kept the lean
-        # (benchmark clips, one camera: 12.8 cm with the lean kept, 6 without)
         z0 = float(cam.world_to_camera(placed[:3])[2])
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
@@ -653,8 +638,7 @@ class ColorShirtTracker:
         if len(views) == 1 and "depth_post" in self.diagnostics:
             # the root reported is the IK's, which may depart from the filter's depth (it
             # is held there only once the feet told the depth): the departure counts
-            # as uncertainty beside the filter's own (tune half, one camera in view:
-            # share of frames within 2 std 0.84 -> 0.97 with it)
+            # as uncertainty beside the filter's own
             post, std = cast("tuple[float, float]", self.diagnostics["depth_post"])
             z = float(self.cameras[views[0].index].world_to_camera(q[:3])[2])
             depth_std = float(np.hypot(std, z - post))
