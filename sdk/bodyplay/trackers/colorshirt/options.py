@@ -141,7 +141,8 @@ class ColorShirtOptions:
     def __post_init__(self) -> None:
         for name, lo, hi, lo_open, unit in _RANGES:
             value = getattr(self, name)
-            if not (np.isfinite(value) and (lo < value if lo_open else lo <= value)
+            finite = isinstance(value, int) or bool(np.isfinite(value))  # ints of any size
+            if not (finite and (lo < value if lo_open else lo <= value)
                     and value <= hi):
                 interval = f"({lo}, {hi}]" if lo_open else f"[{lo}, {hi}]"
                 what = "a positive number" if hi == _INF else f"within {interval}"
