@@ -164,3 +164,52 @@ def test_options_reject_a_negative_restart() -> None:
         SilhouetteOptions(restart_within=-1.0)
     with pytest.raises(ConfigError, match="restart_agree"):
         SilhouetteOptions(restart_agree=0.0)
+
+
+def test_smallest_template_area_is_a_whole_small_body(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.tracker import smallest_template_area
+
+    area = smallest_template_area(silhouette_tree, WindowGeometry())
+    # body "m" standing or bending: a few tenths of a square metre, never an arm's worth
+    assert 0.15 < area < 0.6
+    masks = silhouette_tree.bodies["m"].runs[0].masks()
+    assert area == pytest.approx(masks.reshape(len(masks), -1).sum(1).min()
+                                 * WindowGeometry().mpp(0) ** 2)
+
+
+def test_tracker_does_not_start_on_a_silhouette_smaller_than_any_body(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    # an arm swung by a player who stands still (the rest learned as the room): the
+    # ray through its lowest pixel meets the floor 4 m away, where the blob is as tall
+    # as a person, but it covers a fraction of any body's area
+    tracker = _tracker(silhouette_tree)
+    assert tracker.min_start_area > 0
+    cam = _camera()
+    whole, scale = _shown(silhouette_tree, cam, silhouette_tree.num_leaves // 3, 3.0)
+    win = window_at_distance(tracker.geometry, cam, whole, np.zeros_like(whole), scale, 3.0)
+    assert win is not None and tracker._plausible(win)
+    arm = np.zeros((240, 320), np.uint8)
+    arm[60:160, 158:162] = 1
+    win = window_at_distance(tracker.geometry, cam, arm, np.zeros_like(arm), scale, 4.0)
+    assert win is not None and not tracker._plausible(win)
+    tracker._started = 0.0  # a running track may shrink (parts hidden): not a start
+    assert tracker._plausible(win)
+
+
+def test_tracker_starts_on_small_silhouettes_when_the_area_check_is_off(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette import create_silhouette_tracker
+
+    tracker = create_silhouette_tracker(
+        SilhouetteOptions(body="m", arm_candidates=0, start_area=0.0), (_camera(),),
+        tree=silhouette_tree)
+    assert tracker.min_start_area == 0.0
+    arm = np.zeros((240, 320), np.uint8)
+    arm[60:160, 158:162] = 1
+    win = window_at_distance(tracker.geometry, _camera(), arm, np.zeros_like(arm), 0.5, 4.0)
+    assert win is not None and tracker._plausible(win)
+
+
+def test_options_reject_a_start_area_outside_a_share() -> None:
+    with pytest.raises(ConfigError, match="start_area"):
+        SilhouetteOptions(start_area=-0.1)
+    with pytest.raises(ConfigError, match="start_area"):
+        SilhouetteOptions(start_area=1.5)

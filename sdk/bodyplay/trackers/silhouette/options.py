@@ -324,6 +324,7 @@ class SilhouetteOptions:
     stance_window: float = 0.5
     stance_deadband: float = 0.04
     shape_frames: int = 5
+    start_area: float = 0.75
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -334,6 +335,9 @@ class SilhouetteOptions:
             raise ConfigError("stance_weight must be in [0, 1] (0: the template's own stance)")
         if self.stance_window < 0 or self.stance_deadband < 0:
             raise ConfigError("stance_window must be >= 0 seconds and stance_deadband >= 0 m")
+        if not 0 <= self.start_area <= 1:
+            raise ConfigError(f"start_area must be a share of the smallest template's area in "
+                              f"[0, 1] (0: off), got {self.start_area!r}")
         if self.shape_frames < 0:
             raise ConfigError("shape_frames must be >= 0 (0: no start from the shape)")
         if self.head_min_lever <= 0:

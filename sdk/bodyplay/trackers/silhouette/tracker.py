@@ -67,6 +67,7 @@ from bodyplay.trackers.silhouette.stilltrack import TrackMotion
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
+    WindowGeometry,
     _homography,
     farthest_person,
     feet_like,
@@ -90,6 +91,18 @@ def _head_top(mask: NDArray[np.uint8], half: float = 0.03) -> float | None:
     a, b = int(round(w * (0.5 - half))), int(round(w * (0.5 + half))) + 1
     rows = np.flatnonzero(np.asarray(mask)[:, a:b].any(axis=1))
     return float(rows[0]) if rows.size else None
+
+
+def smallest_template_area(tree: ShapeTree, geometry: WindowGeometry, level: int = 0) -> float:
+    """The area (m2, in the window) of the smallest template of any body preset at
+    ``level``: the least silhouette a whole person standing in view makes."""
+    areas = []
+    for bt in tree.bodies.values():
+        runs = bt.runs[level]
+        if len(runs):
+            px = np.add.reduceat((runs.x1.astype(np.int64) - runs.x0), runs.offsets[:-1])
+            areas.append(float(px.min()))
+    return min(areas, default=0.0) * geometry.mpp(level) ** 2
 
 
 def _moved(mask: NDArray[np.uint8], shift: tuple[int, int]) -> NDArray[np.uint8]:
@@ -130,6 +143,7 @@ class SilhouetteTracker:
         self._template_R = self.geometry.template_view(2).R
         self.max_distance = options.max_distance or farthest_person(
             self._cam, options.background.working_size, options.min_person_px)
+        self.min_start_area = options.start_area * smallest_template_area(tree, self.geometry)
         self._atlas: NDArray[np.float64] | None = None
         if options.arm_candidates:  # built here (0.5 s), not on the first tracked frame
             from bodyplay.trackers.silhouette.poses import mirror_poses
@@ -389,7 +403,8 @@ class SilhouetteTracker:
 
     def _plausible(self, win: ObservedWindow) -> bool:
         """A person: at least ``min_height`` tall, not wider than the window, standing
-        within ``max_distance`` of the camera (:attr:`max_distance`)."""
+        within ``max_distance`` of the camera (:attr:`max_distance`); to start a track,
+        also covering at least :attr:`min_start_area` m2 (``start_area``)."""
         if win.distance > self.max_distance:
             return False
         fg = win.foreground[0] if win.region is None else win.region
@@ -397,6 +412,9 @@ class SilhouetteTracker:
         if rows.size == 0:
             return False
         tall = (rows[-1] - rows[0] + 1) * self.geometry.mpp(0)
+        if (self._started is None
+                and float((fg > 0).sum()) * self.geometry.mpp(0) ** 2 < self.min_start_area):
+            return False  # a start: not a whole person's worth of silhouette (an arm)
         cols = np.flatnonzero(fg.any(axis=0))
         wide = (cols[-1] - cols[0] + 1) / fg.shape[1]
         return bool(tall >= self.options.min_height and wide < 0.97)
