@@ -125,34 +125,29 @@ def build_body_mesh(skeleton: Skeleton) -> SkinnedMesh:
     b = _Builder()
     X, Y, Z = np.eye(3)
 
-    # torso: tapered elliptic rings from below the hips to the top of the shoulders,
-    # placed in depth against the line from the hip centres to the shoulder centres
-    # (DESIGN.md's pelvis-neck line): a person's spine lies at the back of the trunk,
-    # so belly and chest stand well ahead of that line and the back close behind it
-    # (sagittal profile of the MakeHuman base mesh, the project's reference human)
-    pel = J[_N["pelvis"]]
-    lum, tho = J[_N["lumbar"]], J[_N["thorax"]]
+    # torso: tapered elliptic rings from below the hips to the top of the shoulders
+    pel, lum, tho = J[_N["pelvis"]], J[_N["lumbar"]], J[_N["thorax"]]
     x_sh = 0.5 * (J[_N["l_shoulder"], 0] - J[_N["r_shoulder"], 0])
     y_sh = 0.5 * (J[_N["l_shoulder"], 1] + J[_N["r_shoulder"], 1])
     z_sh = 0.5 * (J[_N["l_shoulder"], 2] + J[_N["r_shoulder"], 2])
-    rings = [  # height, half width, half depth, centre ahead of the pelvis-neck line
+    rings = [  # height, half width, half depth, z offset
         (pel[1] - 0.13 * u, 0.11 * k, 0.065 * k, 0.0),
         (pel[1] - 0.10 * u, 0.155 * k, 0.095 * k, 0.0),
-        (pel[1] - 0.05 * u, 0.168 * k, 0.108 * k, 0.002),
-        (pel[1] + 0.02 * u, 0.165 * k, 0.121 * k, 0.0075),
-        (pel[1] + 0.10 * u, 0.148 * k, 0.107 * k, 0.030),
-        (pel[1] + 0.18 * u, 0.150 * k, 0.092 * k, 0.046),
-        (pel[1] + 0.27 * u, 0.165 * k, 0.095 * k, 0.057),
-        (pel[1] + 0.36 * u, 0.172 * k, 0.101 * k, 0.045),
-        (y_sh - 0.07 * u, max(0.175 * k, x_sh - 0.01), 0.092 * k, 0.025),
-        (y_sh - 0.02 * u, x_sh + 0.035 * u, 0.082 * k, 0.012),
-        (y_sh + 0.025 * u, x_sh + 0.015 * u, 0.075 * k, 0.0),
-        (y_sh + 0.05 * u, 0.6 * x_sh, 0.065 * k, 0.0),
+        (pel[1] - 0.05 * u, 0.168 * k, 0.102 * k, 0.0),
+        (pel[1] + 0.02 * u, 0.165 * k, 0.100 * k, 0.01),
+        (pel[1] + 0.10 * u, 0.148 * k, 0.095 * k, 0.015),
+        (pel[1] + 0.18 * u, 0.150 * k, 0.105 * k, 0.02),
+        (pel[1] + 0.27 * u, 0.165 * k, 0.118 * k, 0.025),
+        (pel[1] + 0.36 * u, 0.172 * k, 0.122 * k, 0.025),
+        (y_sh - 0.07 * u, max(0.175 * k, x_sh - 0.01), 0.115 * k, 0.02),
+        (y_sh - 0.02 * u, x_sh + 0.035 * u, 0.10 * k, 0.01),
+        (y_sh + 0.025 * u, x_sh + 0.015 * u, 0.085 * k, 0.0),
+        (y_sh + 0.05 * u, 0.6 * x_sh, 0.07 * k, 0.0),
         (y_sh + 0.065 * u, 0.35 * x_sh, 0.055 * k, 0.0),
     ]
     ry = np.array([r[0] for r in rings])
-    line = pel[2] + (ry - pel[1]) / (y_sh - pel[1]) * (z_sh - pel[2])
-    centers = np.stack([np.zeros_like(ry), ry, line + np.array([r[3] for r in rings]) * u], -1)
+    zax = np.interp(ry, [pel[1], lum[1], tho[1], y_sh], [pel[2], lum[2], tho[2], z_sh])
+    centers = np.stack([np.zeros_like(ry), ry, zax + np.array([r[3] for r in rings]) * u], -1)
     ones = np.ones_like(ry)
     tv, tf = _loft(centers, np.tile(X, (len(ry), 1)), np.tile(Z, (len(ry), 1)),
                    np.array([r[1] for r in rings]) * ones, np.array([r[2] for r in rings]) * ones,
