@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-import colorshirt_validation as V
+import colorshirt_validation as validation
 from _machine import machine
 from bodyplay.body.joints import JOINT_INDEX, UPPER_BODY
 from bodyplay.capture.frames import FrameSet
@@ -67,8 +67,8 @@ def frame_offsets(joints: NDArray[np.float64], truth: NDArray[np.float64]
     return d, np.array(arm)
 
 
-def track_offsets(folder: Path, setting: V.Setting, options: ColorShirtOptions, db: object,
-                  skip: float) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def track_offsets(folder: Path, setting: validation.Setting, options: ColorShirtOptions,
+                  db: object, skip: float) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Track one capture; (F, 11, 3) body-frame errors and (F, 8) arm figures of its
     frames with a pose after ``skip`` seconds of the clip, and the body chosen."""
     truth = read_pose_jsonl(folder / "truth.jsonl")
@@ -109,15 +109,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--work", default="/work/cache-colorshirt")
     ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE")
     args = ap.parse_args(argv)
-    if not (V.MOCAP / "bandai_namco").exists():
+    if not (validation.MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to measure")
         return 1
-    setting = {s.name: s for s in V.SETTINGS}[args.setting]
+    setting = {s.name: s for s in validation.SETTINGS}[args.setting]
     extra = {k: ast.literal_eval(v) for k, v in (i.split("=", 1) for i in args.set)}
     options = ColorShirtOptions(database_size=args.db_size, **extra)
     chosen = set(args.clips.split(",")) if args.clips else None
-    clips = V.all_clips()
-    dbs: dict[str, V.PoseDatabase] = {}
+    clips = validation.all_clips()
+    dbs: dict[str, validation.PoseDatabase] = {}
     print(f"# colorshirt offsets, half {args.half}, {args.setting}, {machine()}, "
           f"options {' '.join(args.set) or 'default'}; cm, truth body frame "
           f"(x left, y up, z facing), after {args.skip:g} s", flush=True)
@@ -126,12 +126,12 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---" + "|---" * (4 + len(_ARM_COLUMNS)) + "|")
     means, arm_means, errors = [], [], []
     for i, clip in enumerate(clips):
-        if (args.half != "all" and V.half_of(clip, clips) != args.half) or (
+        if (args.half != "all" and validation.half_of(clip, clips) != args.half) or (
                 chosen is not None and clip.name not in chosen):
             continue
-        folder = V.capture(Path(args.work), clip, setting.lighting, i, args.seconds)
-        offs, arms, body = track_offsets(folder, setting, options,
-                                         V.database_for(clip, args.db_size, dbs), args.skip)
+        folder = validation.capture(Path(args.work), clip, setting.lighting, i, args.seconds)
+        db = validation.database_for(clip, args.db_size, dbs)
+        offs, arms, body = track_offsets(folder, setting, options, db, args.skip)
         if not len(offs):
             print(f"| {clip.name} | {body} | no pose |")
             continue
