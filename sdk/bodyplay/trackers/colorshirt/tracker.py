@@ -94,6 +94,17 @@ with the clothes rail behind it (not upright) and a moving piece of it (3-5
 patches, low residual), which started the track 1-2 m off."""
 
 
+_PLACEMENT_STD = 1.0
+"""Metres: how loosely a lone camera's first 6-DOF fit is held at the database
+placement's root (two cameras: 0.3). That placement's depth is the shirt's extent in
+the query (its bounding box), which reads far whenever an edge of the shirt is not
+classified: on the validation set's tune half, one camera, 19-23% too far on average
+in every lighting, and held at 0.3 m the fit's depth, the torso's layout, read 4-8%
+far with it. Without any hold an under-determined layout (two or three torso
+patches, a torso turned or leaning) ran off to 10-2,000 m (docs/colorshirt.md,
+*One-camera depth*)."""
+
+
 def _torso_length(skeleton: Skeleton) -> float:
     """Pelvis to neck (m) of ``skeleton`` standing upright (its bone offsets)."""
     chain = [NODE_NAMES.index(n) for n in ("lumbar", "thorax", "neck")]
@@ -579,22 +590,23 @@ class ColorShirtTracker:
         """6-DOF fit of the placed blend; with one camera, the root moved along its ray
         to the depth filter's estimate, and the IK's prior on the root's depth.
 
-        A first fit without any depth prior reads the depth at which the body's
-        known lengths project as large as the shirt looks: the filter's shirt
-        reading (``diagnostics["shirt_depth"]``, scaled to the reference body's
-        size). Once the feet told the depth, the filter is the one place that weighs
-        the depth cues, and the IK's prior holds the root at its depth with
-        ``depth_pin_std`` (with the filter's own, looser std the IK followed the
-        shirt's noisy size again). Without the feet the filter's depth is the rigid
-        fit's shirt size smoothed, and the IK's articulated fit of the shirt reads
-        it better: the IK then starts from the shirt's own depth with a prior of
-        the filter's std (pinning it there made the in-view clips worse).
+        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`) at
+        the placement's position, reads the depth at which the body's known
+        lengths, the layout of the torso's patch anchors, project as large as the
+        shirt looks: the filter's shirt reading (``diagnostics["shirt_depth"]``,
+        scaled to the reference body's size). The filter weighs it with the feet
+        and the frames before, and the IK's prior holds the root at the filter's
+        depth: with ``depth_pin_std`` once the feet told it (with the filter's
+        own, looser std the IK followed the shirt's noisy size again), else with
+        the filter's std. The blend is fitted again at that depth (at another
+        depth the fit leans the torso to make up for a wrong size, and the IK's
+        prior towards it kept the lean).
         """
         placed = q
-        q = self.solver.solve_global(placed, anchors)
         index = self._lone
         if index is None:
-            return q, ()
+            return self.solver.solve_global(placed, anchors), ()
+        q = self.solver.solve_global(placed, anchors, position_std=_PLACEMENT_STD)
         cam = self.cameras[index]
         z = float(cam.world_to_camera(q[:3])[2])
         reading = z * self._depth_scale() if z > 0.3 else None
@@ -606,11 +618,8 @@ class ColorShirtTracker:
             return q, ()
         depth, std = post
         self.diagnostics["depth_post"] = post
-        if not self._depth.feet_known():
-            return q, (RootPrior.camera_depth(cam, depth, std),)
-        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
-        # fitted again at that depth: at the shirt's own depth the fit leans the torso
-        # to make up for a wrong size, and the IK's prior towards it kept the lean
+        pin = self.options.depth_pin_std if self._depth.feet_known() else std
+        priors = (RootPrior.camera_depth(cam, depth, pin),)
         z0 = float(cam.world_to_camera(placed[:3])[2])
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
