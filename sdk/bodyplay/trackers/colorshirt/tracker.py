@@ -96,13 +96,8 @@ patches, low residual), which started the track 1-2 m off."""
 
 _PLACEMENT_STD = 1.0
 """Metres: how loosely a lone camera's first 6-DOF fit is held at the database
-placement's root (two cameras: 0.3). That placement's depth is the shirt's extent in
-the query (its bounding box), which reads far whenever an edge of the shirt is not
-classified: on the validation set's tune half, one camera, 19-23% too far on average
-in every lighting, and held at 0.3 m the fit's depth, the torso's layout, read 4-8%
-far with it. Without any hold an under-determined layout (two or three torso
-patches, a torso turned or leaning) ran off to 10-2,000 m (docs/colorshirt.md,
-*One-camera depth*)."""
+placement's root (two cameras: 0.3), whose depth, the shirt's extent, reads ~20% far;
+without a hold an under-determined layout runs off (docs/colorshirt.md)."""
 
 
 def _torso_length(skeleton: Skeleton) -> float:
@@ -590,17 +585,14 @@ class ColorShirtTracker:
         """6-DOF fit of the placed blend; with one camera, the root moved along its ray
         to the depth filter's estimate, and the IK's prior on the root's depth.
 
-        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`) at
-        the placement's position, reads the depth at which the body's known
-        lengths, the layout of the torso's patch anchors, project as large as the
-        shirt looks: the filter's shirt reading (``diagnostics["shirt_depth"]``,
-        scaled to the reference body's size). The filter weighs it with the feet
-        and the frames before, and the IK's prior holds the root at the filter's
-        depth: with ``depth_pin_std`` once the feet told it (with the filter's
-        own, looser std the IK followed the shirt's noisy size again), else with
-        the filter's std. The blend is fitted again at that depth (at another
-        depth the fit leans the torso to make up for a wrong size, and the IK's
-        prior towards it kept the lean).
+        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`),
+        reads the depth at which the layout of the torso's patch anchors projects
+        as large as the shirt looks: the filter's shirt reading
+        (``diagnostics["shirt_depth"]``, scaled to the reference body's size).
+        The IK's prior holds the root at the filter's depth, with
+        ``depth_pin_std`` once the feet told it, else with the filter's std; the
+        blend is fitted again at that depth (at another depth the fit leans the
+        torso to make up for a wrong size).
         """
         placed = q
         index = self._lone
@@ -646,7 +638,7 @@ class ColorShirtTracker:
         depth_std = None
         if len(views) == 1 and "depth_post" in self.diagnostics:
             # the root reported is the IK's, which may depart from the filter's depth (it
-            # is held there only once the feet told the depth): the departure counts
+            # is pinned there only once the feet told the depth): the departure counts
             # as uncertainty beside the filter's own
             post, std = cast("tuple[float, float]", self.diagnostics["depth_post"])
             z = float(self.cameras[views[0].index].world_to_camera(q[:3])[2])
