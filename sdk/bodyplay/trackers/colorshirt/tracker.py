@@ -592,13 +592,19 @@ class ColorShirtTracker:
         The IK's prior holds the root at the filter's depth, with
         ``depth_pin_std`` once the feet told it, else with the filter's std; the
         blend is fitted again at that depth (at another depth the fit leans the
-        torso to make up for a wrong size).
+        torso to make up for a wrong size). A lone view in a rig of several
+        cameras (a gap between triangulated frames) keeps the two-camera hold
+        (0.3 m) and, without the feet, the IK starts from the fit's own depth
+        with the filter's as a prior: the one-camera rules made the tune half's
+        two-camera worst clips worse (docs/colorshirt.md).
         """
         placed = q
         index = self._lone
         if index is None:
             return self.solver.solve_global(placed, anchors), ()
-        q = self.solver.solve_global(placed, anchors, position_std=_PLACEMENT_STD)
+        rig1 = len(self.cameras) == 1  # a lone view in a rig of several: as two cameras
+        q = self.solver.solve_global(placed, anchors,
+                                     position_std=_PLACEMENT_STD if rig1 else 0.3)
         cam = self.cameras[index]
         z = float(cam.world_to_camera(q[:3])[2])
         reading = z * self._depth_scale() if z > 0.3 else None
@@ -610,8 +616,10 @@ class ColorShirtTracker:
             return q, ()
         depth, std = post
         self.diagnostics["depth_post"] = post
-        pin = self.options.depth_pin_std if self._depth.feet_known() else std
-        priors = (RootPrior.camera_depth(cam, depth, pin),)
+        feet = self._depth.feet_known()
+        if not (feet or rig1):
+            return q, (RootPrior.camera_depth(cam, depth, std),)
+        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std if feet else std),)
         z0 = float(cam.world_to_camera(placed[:3])[2])
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
