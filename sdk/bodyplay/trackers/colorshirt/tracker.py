@@ -592,19 +592,20 @@ class ColorShirtTracker:
         The IK's prior holds the root at the filter's depth, with
         ``depth_pin_std`` once the feet told it, else with the filter's std; the
         blend is fitted again at that depth (at another depth the fit leans the
-        torso to make up for a wrong size). A lone view in a rig of several
-        cameras (a gap between triangulated frames) keeps the two-camera hold
-        (0.3 m) and, without the feet, the IK starts from the fit's own depth
-        with the filter's as a prior: the one-camera rules made the tune half's
-        two-camera worst clips worse (docs/colorshirt.md).
+        torso to make up for a wrong size). Elsewhere the fit is held at 0.3 m.
+        A rig of several cameras keeps the code before these rules exactly (its
+        lone views: the IK from the fit's own depth with the filter's as a prior;
+        the hold 3.3 per metre, not 1 / 0.3: a 1% change of that weight moved
+        single two-camera clips by up to 11 cm; docs/colorshirt.md).
         """
         placed = q
         index = self._lone
-        if index is None:
-            return self.solver.solve_global(placed, anchors), ()
         rig1 = len(self.cameras) == 1  # a lone view in a rig of several: as two cameras
+        near = 0.3 if rig1 else None  # a rig of several keeps 3.3/m exactly (see above)
+        if index is None:
+            return self.solver.solve_global(placed, anchors, position_std=near), ()
         q = self.solver.solve_global(placed, anchors,
-                                     position_std=_PLACEMENT_STD if rig1 else 0.3)
+                                     position_std=_PLACEMENT_STD if rig1 else None)
         cam = self.cameras[index]
         z = float(cam.world_to_camera(q[:3])[2])
         reading = z * self._depth_scale() if z > 0.3 else None
@@ -624,7 +625,8 @@ class ColorShirtTracker:
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
             placed[:3] = cam.center + (placed[:3] - cam.center) * (depth / z0)
-        return self.solver.solve_global(placed, anchors, root_priors=priors), priors
+        return self.solver.solve_global(placed, anchors, root_priors=priors,
+                                        position_std=near), priors
 
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
                  rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
