@@ -129,3 +129,25 @@ def test_root_prior_pins_the_depth_one_camera_cannot_tell() -> None:
         q_ik = sol.solve_ik(q_true, a, default_prior_model(), None, root_priors=(prior,))
         got_ik = float(cam[0].world_to_camera(q_ik[None, :3])[0, 2])
         assert abs(got_ik - depth) < 0.02 if offset == 0 else got_ik - depth > 0.1
+
+
+def test_global_fit_without_a_position_prior_reads_the_depth_from_the_layout() -> None:
+    cam = _cams()[:1]
+    sol = KinematicSolver(SK, cam)
+    q_true = SK.pose(root=(0.0, 0.95, 0.0))
+    # a placement 20% too far along the camera's ray (the shirt's extent read far)
+    centre = cam[0].center
+    q_far = q_true.copy()
+    q_far[:3] = centre + (q_true[:3] - centre) * 1.2
+    a = _anchors(sol, q_far, q_true)
+
+    def depth(q: np.ndarray) -> float:
+        return float(cam[0].world_to_camera(q[None, :3])[0, 2])
+
+    true = depth(q_true)
+    held = depth(sol.solve_global(q_far, a))
+    free = depth(sol.solve_global(q_far, a, position_std=np.inf))
+    loose = depth(sol.solve_global(q_far, a, position_std=1.0))  # a lone camera's hold
+    assert held - true > 0.05  # the 0.3 m prior keeps part of the wrong depth
+    assert abs(free - true) < 0.02  # the torso's layout alone tells it
+    assert abs(loose - true) < 0.03

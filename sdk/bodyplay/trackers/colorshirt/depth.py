@@ -8,10 +8,10 @@ the root's depth ``d`` along the camera's axis, each with a stated noise:
   person meet the floor, raised to the root's height; a few cm when the feet
   stand on the floor, metres off when they leave it, absent without a background
   plate;
-* the **body's known lengths**: the torso's patch anchors fitted to the image
-  without any depth prior (:meth:`.ik.KinematicSolver.solve_global`) put the
-  root at the depth where the skeleton's metric lengths project as large as the
-  shirt looks. It is always there, noisy (a lean towards the camera reads as
+* the **body's known lengths**: the torso's patch anchors fitted to the image,
+  held only loosely at the database placement (:meth:`.ik.KinematicSolver.solve_global`),
+  put the root at the depth where the skeleton's metric lengths project as large as
+  the shirt looks. It is always there, noisy (a lean towards the camera reads as
   distance) and biased by the ratio of the player's size to the model's: an 8%
   larger player reads 8% too near;
 * the **root's height** (the stance): the root lies on the ray through where the

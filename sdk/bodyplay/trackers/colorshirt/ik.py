@@ -412,13 +412,15 @@ class KinematicSolver:
         return out
 
     def solve_global(self, q: NDArray[np.float64], anchors: PatchAnchors,
-                     max_nfev: int = 10, root_priors: tuple[RootPrior, ...] = ()
-                     ) -> NDArray[np.float64]:
+                     max_nfev: int = 10, root_priors: tuple[RootPrior, ...] = (),
+                     position_std: float | None = None) -> NDArray[np.float64]:
         """6-DOF fit: root position and pelvis orientation; the articulation is kept.
 
         The blend's arms may be wrong, and a rigid fit would then twist the whole
         body to shrink their error, so only torso anchors are used when at least
-        three are visible.
+        three are visible. A prior holds the fit near ``q``: 0.3 rad on the
+        orientation, ``position_std`` metres on the root (None: 1 / 3.3, about
+        0.3 m; ``inf``: none, the anchors' layout alone places the root).
         """
         torso = np.isin(anchors.node, self._torso_nodes)
         if int(torso.sum()) >= 3:
@@ -429,7 +431,8 @@ class KinematicSolver:
         qd, R0 = self._with_delta_root(q)
         free = np.asarray(GLOBAL_DOFS, dtype=np.int64)
         # the database placement is a fair guess: stds 0.3 m and 0.3 rad
-        prior = [(qd[free].copy(), np.array([3.3, 3.3, 3.3, 3.3, 3.3, 3.3]))]
+        w = 3.3 if position_std is None else 1.0 / position_std
+        prior = [(qd[free].copy(), np.array([w, w, w, 3.3, 3.3, 3.3]))]
         out = self._solve(_Problem(qd, R0, free, anchors, prior, root_priors), max_nfev,
                           limits=False)
         return self._compose_root(out, R0)

@@ -94,6 +94,12 @@ with the clothes rail behind it (not upright) and a moving piece of it (3-5
 patches, low residual), which started the track 1-2 m off."""
 
 
+_PLACEMENT_STD = 1.0
+"""Metres: how loosely a lone camera's first 6-DOF fit is held at the database
+placement's root (two cameras: 0.3), whose depth, the shirt's extent, reads ~20% far;
+without a hold an under-determined layout runs off (docs/colorshirt.md)."""
+
+
 def _torso_length(skeleton: Skeleton) -> float:
     """Pelvis to neck (m) of ``skeleton`` standing upright (its bone offsets)."""
     chain = [NODE_NAMES.index(n) for n in ("lumbar", "thorax", "neck")]
@@ -579,22 +585,27 @@ class ColorShirtTracker:
         """6-DOF fit of the placed blend; with one camera, the root moved along its ray
         to the depth filter's estimate, and the IK's prior on the root's depth.
 
-        A first fit without any depth prior reads the depth at which the body's
-        known lengths project as large as the shirt looks: the filter's shirt
-        reading (``diagnostics["shirt_depth"]``, scaled to the reference body's
-        size). Once the feet told the depth, the filter is the one place that weighs
-        the depth cues, and the IK's prior holds the root at its depth with
-        ``depth_pin_std`` (with the filter's own, looser std the IK followed the
-        shirt's noisy size again). Without the feet the filter's depth is the rigid
-        fit's shirt size smoothed, and the IK's articulated fit of the shirt reads
-        it better: the IK then starts from the shirt's own depth with a prior of
-        the filter's std (pinning it there made the in-view clips worse).
+        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`),
+        reads the depth at which the layout of the torso's patch anchors projects
+        as large as the shirt looks: the filter's shirt reading
+        (``diagnostics["shirt_depth"]``, scaled to the reference body's size).
+        The IK's prior holds the root at the filter's depth, with
+        ``depth_pin_std`` once the feet told it, else with the filter's std; the
+        blend is fitted again at that depth (at another depth the fit leans the
+        torso to make up for a wrong size). Elsewhere the fit is held at 0.3 m.
+        A rig of several cameras keeps the code before these rules exactly (its
+        lone views: the IK from the fit's own depth with the filter's as a prior;
+        the hold 3.3 per metre, not 1 / 0.3: a 1% change of that weight moved
+        single two-camera clips by up to 11 cm; docs/colorshirt.md).
         """
         placed = q
-        q = self.solver.solve_global(placed, anchors)
         index = self._lone
+        rig1 = len(self.cameras) == 1  # a lone view in a rig of several: as two cameras
+        near = 0.3 if rig1 else None  # a rig of several keeps 3.3/m exactly (see above)
         if index is None:
-            return q, ()
+            return self.solver.solve_global(placed, anchors, position_std=near), ()
+        q = self.solver.solve_global(placed, anchors,
+                                     position_std=_PLACEMENT_STD if rig1 else None)
         cam = self.cameras[index]
         z = float(cam.world_to_camera(q[:3])[2])
         reading = z * self._depth_scale() if z > 0.3 else None
@@ -606,16 +617,16 @@ class ColorShirtTracker:
             return q, ()
         depth, std = post
         self.diagnostics["depth_post"] = post
-        if not self._depth.feet_known():
+        feet = self._depth.feet_known()
+        if not (feet or rig1):
             return q, (RootPrior.camera_depth(cam, depth, std),)
-        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
-        # fitted again at that depth: at the shirt's own depth the fit leans the torso
-        # to make up for a wrong size, and the IK's prior towards it kept the lean
+        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std if feet else std),)
         z0 = float(cam.world_to_camera(placed[:3])[2])
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
             placed[:3] = cam.center + (placed[:3] - cam.center) * (depth / z0)
-        return self.solver.solve_global(placed, anchors, root_priors=priors), priors
+        return self.solver.solve_global(placed, anchors, root_priors=priors,
+                                        position_std=near), priors
 
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
                  rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
@@ -637,7 +648,7 @@ class ColorShirtTracker:
         depth_std = None
         if len(views) == 1 and "depth_post" in self.diagnostics:
             # the root reported is the IK's, which may depart from the filter's depth (it
-            # is held there only once the feet told the depth): the departure counts
+            # is pinned there only once the feet told the depth): the departure counts
             # as uncertainty beside the filter's own
             post, std = cast("tuple[float, float]", self.diagnostics["depth_post"])
             z = float(self.cameras[views[0].index].world_to_camera(q[:3])[2])
