@@ -246,6 +246,12 @@ class SilhouetteOptions:
     ``stature_tolerance`` m of the observed head top, median over the frames, of
     the best match, the one of smallest mean distance) or "distance" (smallest mean
     distance alone);
+    ``head_gap``/``shoulder_width``: a frame's stature reading is the head top only
+    where the observed silhouette shows a head: its head top at least ``head_gap``
+    of the template's head-to-shoulder height above its own shoulder row (the
+    highest row whose run through the middle is ``shoulder_width`` m wide); where
+    the room took the head (a dark head against a dark wall), the shoulder rows are
+    compared instead (0: the head top always, as before);
     ``max_foot_width``/``foot_band``: the first frame's guess of the player counts
     for the floor point only when no row of its lowest ``foot_band`` m is wider,
     filled, than ``max_foot_width`` m (feet and shins; GrabCut can take a dark treadmill
@@ -312,6 +318,8 @@ class SilhouetteOptions:
     beta: float = 5.0
     body_cue: str = "stature"
     stature_tolerance: float = 0.05
+    head_gap: float = 0.7
+    shoulder_width: float = 0.26
     max_foot_width: float = 0.6
     foot_band: float = 0.25
     arm_candidates: int = 1000
@@ -364,6 +372,11 @@ class SilhouetteOptions:
             raise ConfigError(f"body_cue must be 'stature' or 'distance', got {self.body_cue!r}")
         if self.stature_tolerance < 0:
             raise ConfigError("stature_tolerance must be >= 0 metres")
+        if not 0 <= self.head_gap <= 1:
+            raise ConfigError(f"head_gap must be within 0..1, got {self.head_gap}")
+        if not 0.1 <= self.shoulder_width <= 0.6:
+            raise ConfigError(f"shoulder_width must be within 0.1..0.6 m, got "
+                              f"{self.shoulder_width}")
         if self.max_distance < 0 or self.min_person_px <= 0:
             raise ConfigError("max_distance must be >= 0 metres (0: from the calibration) "
                               "and min_person_px > 0")

@@ -93,6 +93,52 @@ def _head_top(mask: NDArray[np.uint8], half: float = 0.03) -> float | None:
     return float(rows[0]) if rows.size else None
 
 
+def shoulder_row(mask: NDArray[np.uint8], wide: float, search: float = 0.03) -> float | None:
+    """The highest row whose run of silhouette through the window's middle (a
+    silhouette pixel within ``search`` of the width of the centre) is at least
+    ``wide`` pixels wide: the shoulders (a head, a neck or a raised forearm is
+    narrower), None when no row is."""
+    m = np.asarray(mask) > 0
+    h, w = m.shape
+    c = w // 2
+    r = max(1, int(round(w * search)))
+    for y in np.flatnonzero(m[:, c - r:c + r + 1].any(axis=1)):
+        row = m[y]
+        near = np.flatnonzero(row[c - r:c + r + 1])
+        x = c - r + int(near[len(near) // 2])
+        gaps = np.flatnonzero(~row)
+        left = gaps[gaps < x]
+        right = gaps[gaps > x]
+        lo = int(left[-1]) + 1 if left.size else 0
+        hi = int(right[0]) if right.size else w
+        if hi - lo >= wide:
+            return float(y)
+    return None
+
+
+def stature_reading(observed: NDArray[np.uint8], template: NDArray[np.uint8],
+                    shift: tuple[int, int], wide: float, head_gap: float
+                    ) -> tuple[float, bool] | None:
+    """How far (window rows, + = lower) the template (its mask, placed moved by
+    ``shift``) reaches from the observed silhouette's top, in the same pose: the head
+    tops where the observed silhouette shows a head (its head top at least
+    ``head_gap`` of the template's head-to-shoulder height above its shoulder row),
+    else the shoulder rows (``wide``: the shoulder width in pixels); with whether
+    the head was used. None when either lacks the reading."""
+    ho, ht = _head_top(observed), _head_top(template)
+    if ho is None or ht is None:
+        return None
+    ht += shift[1]
+    if head_gap <= 0:
+        return ht - ho, True
+    so, st = shoulder_row(observed, wide), shoulder_row(_moved(template, shift), wide)
+    if so is None or st is None:
+        return ht - ho, True
+    if so - ho >= head_gap * (st - ht):
+        return ht - ho, True
+    return st - so, False
+
+
 def smallest_template_area(tree: ShapeTree, geometry: WindowGeometry, level: int = 0) -> float:
     """The area (m2, in the window) of the smallest template of any body preset at
     ``level``: the least silhouette a whole person standing in view makes."""
@@ -470,15 +516,16 @@ class SilhouetteTracker:
         if self._body is not None:
             return self._filters[self._body].step(maps)  # type: ignore[arg-type]
         steps = {}
-        top = _head_top(observed)
+        o = self.options
+        wide = o.shoulder_width / self.geometry.mpp(2)
         for b, f in self._filters.items():
             steps[b] = f.step(maps)  # type: ignore[arg-type]
             self._scores[b].append(steps[b].distance)
-            if self.options.body_cue == "stature" and top is not None:
+            if o.body_cue == "stature":
                 mask = self.tree.bodies[b].runs[2].masks(np.array([steps[b].leaf]))[0]
-                t = _head_top(mask)
-                if t is not None:
-                    self._tops[b].append(t + steps[b].shift[1] - top - self._shortfall(b))
+                read = stature_reading(observed, mask, steps[b].shift, wide, o.head_gap)
+                if read is not None:  # the mesh's shortfall: its head top is short
+                    self._tops[b].append(read[0] - (self._shortfall(b) if read[1] else 0.0))
         n = len(next(iter(self._scores.values())))
         best = self._best_body()
         waited = (not self.options.select_motion or self._moved or (
