@@ -250,8 +250,10 @@ class SilhouetteOptions:
     where the observed silhouette shows a head: its head top at least ``head_gap``
     of the template's head-to-shoulder height above its own shoulder row (the
     highest row whose run through the middle is ``shoulder_width`` m wide); where
-    the room took the head (a dark head against a dark wall), the shoulder rows are
-    compared instead (0: the head top always, as before);
+    the room took the head (the silhouette ends at the shoulders), the shoulder rows
+    are compared instead (0, the default: the head top always; 0.7 chose the actor's
+    preset on 7 of 10 tune-room captures instead of 3, but did not carry over to
+    the report rooms: docs/silhouette.md);
     ``max_foot_width``/``foot_band``: the first frame's guess of the player counts
     for the floor point only when no row of its lowest ``foot_band`` m is wider,
     filled, than ``max_foot_width`` m (feet and shins; GrabCut can take a dark treadmill
@@ -318,7 +320,7 @@ class SilhouetteOptions:
     beta: float = 5.0
     body_cue: str = "stature"
     stature_tolerance: float = 0.05
-    head_gap: float = 0.7
+    head_gap: float = 0.0
     shoulder_width: float = 0.26
     max_foot_width: float = 0.6
     foot_band: float = 0.25
