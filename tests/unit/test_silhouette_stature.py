@@ -70,3 +70,11 @@ def test_silhouette_options_reject_a_head_gap_or_shoulder_width_out_of_range(
         field: str, value: float) -> None:
     with pytest.raises(ConfigError):
         SilhouetteOptions(**{field: value})
+
+
+def test_silhouette_options_read_the_head_top_alone_by_default() -> None:
+    # the shoulder reading did not carry over to the report rooms: opt-in only
+    o = SilhouetteOptions()
+    assert o.head_gap == 0.0
+    observed, template = _figure(12, head=False), _figure(12)
+    assert stature_reading(observed, template, (0, 0), 20, o.head_gap) == (-14.0, True)
