@@ -10,10 +10,10 @@ the first frame the player moves (``select_motion``; before, the silhouette is o
 the first frame's colour segmentation; ``select_wait`` s for a player who stays
 still), run a filter per body preset; each frame, the head top of each preset's chosen template (the
 highest template row in the window's middle columns, less the mesh's shortfall
-against the preset's stature) is compared with the observed one, or, where the
-observed silhouette shows no head (a dark head against a dark wall: its top is
-under ``head_gap`` of the template's head height above its shoulders), the
-shoulder rows (:func:`stature_reading`): the presets within ``stature_tolerance``
+against the preset's stature) is compared with the observed one, or, with
+``head_gap`` > 0 (an option, off by default) and where the room took the
+observed head (its top under ``head_gap`` of the template's head height above its
+shoulders), the shoulder rows (:func:`stature_reading`): the presets within ``stature_tolerance``
 of the best median match are candidates and the one of smallest mean distance
 among them is kept (the distance alone favoured large presets, and differs by a
 few percent between them).
