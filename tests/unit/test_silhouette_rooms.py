@@ -167,7 +167,7 @@ def test_options_reject_a_negative_restart() -> None:
 
 
 def test_smallest_template_area_is_a_whole_small_body(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
-    from bodyplay.trackers.silhouette.tracker import smallest_template_area
+    from bodyplay.trackers.silhouette.stature import smallest_template_area
 
     area = smallest_template_area(silhouette_tree, WindowGeometry())
     # body "m" standing or bending: a few tenths of a square metre, never an arm's worth

@@ -8,7 +8,7 @@ import pytest
 
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.silhouette import SilhouetteOptions
-from bodyplay.trackers.silhouette.tracker import shoulder_row, stature_reading
+from bodyplay.trackers.silhouette.stature import shoulder_row, stature_reading
 
 
 def _figure(top: int, h: int = 120, w: int = 80, head: bool = True) -> np.ndarray:

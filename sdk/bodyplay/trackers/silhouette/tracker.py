@@ -66,11 +66,16 @@ from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geome
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.shapestart import shape_distance, window_at_distance
 from bodyplay.trackers.silhouette.stance import stance_offset
+from bodyplay.trackers.silhouette.stature import (
+    head_top,
+    shifted,
+    smallest_template_area,
+    stature_reading,
+)
 from bodyplay.trackers.silhouette.stilltrack import TrackMotion
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
-    WindowGeometry,
     _homography,
     farthest_person,
     feet_like,
@@ -85,83 +90,6 @@ _JOINT_PART = np.zeros(NUM_JOINTS, np.int64)
 for _p, _names in enumerate(PART_JOINTS):
     for _n in _names:
         _JOINT_PART[JOINT_INDEX[_n]] = _p
-
-
-def _head_top(mask: NDArray[np.uint8], half: float = 0.03) -> float | None:
-    """The highest silhouette row in the window's middle columns (the head above the
-    floor point, ``half`` of the width either side), None when empty."""
-    w = mask.shape[1]
-    a, b = int(round(w * (0.5 - half))), int(round(w * (0.5 + half))) + 1
-    rows = np.flatnonzero(np.asarray(mask)[:, a:b].any(axis=1))
-    return float(rows[0]) if rows.size else None
-
-
-def shoulder_row(mask: NDArray[np.uint8], wide: float, search: float = 0.03) -> float | None:
-    """The highest row whose run of silhouette through the window's middle (a
-    silhouette pixel within ``search`` of the width of the centre) is at least
-    ``wide`` pixels wide: the shoulders (a head, a neck or a raised forearm is
-    narrower), None when no row is."""
-    m = np.asarray(mask) > 0
-    h, w = m.shape
-    c = w // 2
-    r = max(1, int(round(w * search)))
-    for y in np.flatnonzero(m[:, c - r:c + r + 1].any(axis=1)):
-        row = m[y]
-        near = np.flatnonzero(row[c - r:c + r + 1])
-        x = c - r + int(near[len(near) // 2])
-        gaps = np.flatnonzero(~row)
-        left = gaps[gaps < x]
-        right = gaps[gaps > x]
-        lo = int(left[-1]) + 1 if left.size else 0
-        hi = int(right[0]) if right.size else w
-        if hi - lo >= wide:
-            return float(y)
-    return None
-
-
-def stature_reading(observed: NDArray[np.uint8], template: NDArray[np.uint8],
-                    shift: tuple[int, int], wide: float, head_gap: float
-                    ) -> tuple[float, bool] | None:
-    """How far (window rows, + = lower) the template (its mask, placed moved by
-    ``shift``) reaches from the observed silhouette's top, in the same pose: the head
-    tops where the observed silhouette shows a head (its head top at least
-    ``head_gap`` of the template's head-to-shoulder height above its shoulder row),
-    else the shoulder rows (``wide``: the shoulder width in pixels); with whether
-    the head was used. None when either lacks the reading."""
-    ho, ht = _head_top(observed), _head_top(template)
-    if ho is None or ht is None:
-        return None
-    ht += shift[1]
-    if head_gap <= 0:
-        return ht - ho, True
-    so, st = shoulder_row(observed, wide), shoulder_row(_moved(template, shift), wide)
-    if so is None or st is None:
-        return ht - ho, True
-    if so - ho >= head_gap * (st - ht):
-        return ht - ho, True
-    return st - so, False
-
-
-def smallest_template_area(tree: ShapeTree, geometry: WindowGeometry, level: int = 0) -> float:
-    """The area (m2, in the window) of the smallest template of any body preset at
-    ``level``: the least silhouette a whole person standing in view makes."""
-    areas = []
-    for bt in tree.bodies.values():
-        runs = bt.runs[level]
-        if len(runs):
-            px = np.add.reduceat((runs.x1.astype(np.int64) - runs.x0), runs.offsets[:-1])
-            areas.append(float(px.min()))
-    return min(areas, default=0.0) * geometry.mpp(level) ** 2
-
-
-def _moved(mask: NDArray[np.uint8], shift: tuple[int, int]) -> NDArray[np.uint8]:
-    """``mask`` moved by whole pixels (x right, y down), zeros coming in."""
-    out = np.zeros_like(mask)
-    h, w = mask.shape
-    dx, dy = shift
-    out[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = \
-        mask[max(-dy, 0):h + min(-dy, 0), max(-dx, 0):w + min(-dx, 0)]
-    return out
 
 
 @dataclass
@@ -584,7 +512,7 @@ class SilhouetteTracker:
         lift = np.array([0.0, max(0.0, -step.shift[1] * mpp), 0.0])
         ratio = sk.pelvis_height / Skeleton.from_shape("m").pelvis_height
         leaf_mask = bt.runs[2].masks(np.array([step.leaf]))[0]  # the MAP leaf, level 3
-        placed = _moved(leaf_mask, step.shift)
+        placed = shifted(leaf_mask, step.shift)
         # joints: the few best leaves blended by posterior (the MAP leaf's pose vector)
         leaves = step.top[step.weights >= 0.2 * step.weights[0]]
         w = step.weights[: len(leaves)] / step.weights[: len(leaves)].sum()
@@ -641,8 +569,8 @@ class SilhouetteTracker:
     def _head_offset(self, leaf_mask: NDArray[np.uint8], step: FilterStep, win: ObservedWindow
                      ) -> float | None:
         """The head-top depth cue of this frame (:func:`.headdepth.head_depth_offset`)."""
-        top = _head_top(win.foreground[2])
-        tt = _head_top(leaf_mask)
+        top = head_top(win.foreground[2])
+        tt = head_top(leaf_mask)
         if top is None or tt is None:
             return None
         g = self.geometry
