@@ -19,16 +19,8 @@ from bodyplay.trackers.colorshirt.ik import PriorModel, default_prior_model
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions, options_with_overrides
 from bodyplay.trackers.colorshirt.tracker import ColorShirtTracker
 
-__all__ = [
-    "ColorShirtOptions",
-    "ColorShirtTracker",
-    "ColorModel",
-    "DatabaseOptions",
-    "PoseDatabase",
-    "PriorModel",
-    "create_colorshirt_tracker",
-    "options_with_overrides",
-]
+__all__ = ["ColorShirtOptions", "ColorShirtTracker", "ColorModel", "DatabaseOptions",
+           "PoseDatabase", "PriorModel", "create_colorshirt_tracker", "options_with_overrides"]
 
 
 def create_colorshirt_tracker(

@@ -366,14 +366,12 @@ class CameraWork:
         torso = every[np.unique(mesh.faces[np.isin(mesh.face_part, _TORSO_PATCHES)])]
         for cam, st in zip(self.cameras, states, strict=True):
             st.torso_box = _image_box(cam, torso)
-            uv = cam.project(verts, distort=False)
-            uv = uv[np.isfinite(uv).all(axis=1)]  # none behind the camera
-            if not len(uv):
+            box = _image_box(cam, verts)
+            if box is None:
                 st.gate = None
                 continue
-            lo, hi = uv.min(axis=0), uv.max(axis=0)
-            x0, y0 = max(int(lo[0]), 0), max(int(lo[1]), 0)
-            x1, y1 = min(int(np.ceil(hi[0])), cam.width), min(int(np.ceil(hi[1])), cam.height)
+            x0, y0 = max(box[0], 0), max(box[1], 0)
+            x1, y1 = min(box[2], cam.width), min(box[3], cam.height)
             if x1 - x0 < 4 or y1 - y0 < 4:
                 st.gate = None
                 continue

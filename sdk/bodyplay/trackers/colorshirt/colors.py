@@ -15,13 +15,8 @@ from numpy.typing import ArrayLike, NDArray
 from bodyplay.body.shirt import NUM_COLORS, SHIRT_COLORS
 from bodyplay.errors import ConfigError
 
-__all__ = [
-    "ColorModel",
-    "Classification",
-    "default_color_model",
-    "srgb_color_model",
-    "DEFAULT_MODEL_RESOURCE",
-]
+__all__ = ["ColorModel", "Classification", "default_color_model", "srgb_color_model",
+           "DEFAULT_MODEL_RESOURCE"]
 
 DEFAULT_MODEL_RESOURCE = "color_model.json"
 """File name of the shipped default model inside ``bodyplay/assets/colorshirt``."""

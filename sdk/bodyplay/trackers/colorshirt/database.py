@@ -23,20 +23,9 @@ from bodyplay.errors import ConfigError
 from bodyplay.files import load_cache, save_cache
 from bodyplay.render.idmap import rasterize_ids
 
-__all__ = [
-    "DatabaseOptions",
-    "PoseDatabase",
-    "Neighbours",
-    "BlendedPose",
-    "canonical_camera",
-    "sample_database_poses",
-    "build_database",
-    "load_or_build_database",
-    "default_cache_dir",
-    "shirt_color_face_ids",
-    "mismatch",
-    "blend_poses",
-]
+__all__ = ["DatabaseOptions", "PoseDatabase", "Neighbours", "BlendedPose", "canonical_camera",
+           "sample_database_poses", "build_database", "load_or_build_database",
+           "default_cache_dir", "shirt_color_face_ids", "mismatch", "blend_poses"]
 
 _FORMAT_VERSION = 4
 _CACHE_KIND = "colorshirt_pose_database"

@@ -11,16 +11,9 @@ from bodyplay.body.shirt import NUM_COLORS
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt.colors import Classification, ColorModel
 
-__all__ = [
-    "fit_white_balance",
-    "color_means",
-    "white_balance_from_ids",
-    "white_balance_from_scribbles",
-    "auto_white_balance",
-    "classification_score",
-    "ReferenceIlluminations",
-    "AutoWhiteBalance",
-]
+__all__ = ["fit_white_balance", "color_means", "white_balance_from_ids",
+           "white_balance_from_scribbles", "auto_white_balance", "classification_score",
+           "ReferenceIlluminations", "AutoWhiteBalance"]
 
 
 def fit_white_balance(
