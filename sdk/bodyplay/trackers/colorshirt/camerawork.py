@@ -90,7 +90,7 @@ def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
 
 
 class CameraWork:
-    """The per-camera image steps of the color-shirt tracker (see the module docstring)."""
+    """The per-camera image steps of the tracker (docs/colorshirt.md, "Design notes")."""
 
     def __init__(self, options: ColorShirtOptions, cameras: tuple[Camera, ...],
                  database: PoseDatabase, color_model: ColorModel) -> None:

@@ -255,7 +255,7 @@ class BlendedPose:
 
 @dataclass(frozen=True, eq=False)
 class PoseDatabase:
-    """Rendered poses and their search structure (see the module docstring)."""
+    """Rendered poses and their search structure (docs/colorshirt.md, "Design notes")."""
 
     options: DatabaseOptions
     poses: NDArray[np.float32]

@@ -30,7 +30,7 @@ class RootRay:
 @dataclass
 class RootDepthFilter:
     """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias,
-    shirt bias]`` along a lone camera's axis (see the module docstring)."""
+    shirt bias]`` along a lone camera's axis (docs/colorshirt.md, "Design notes")."""
 
     accel: float = 3.0
     floor_std: float = 0.05

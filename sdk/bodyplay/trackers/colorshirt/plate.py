@@ -10,7 +10,7 @@ __all__ = ["RoomPlate"]
 
 
 class RoomPlate:
-    """One camera's plate of the room at reduced resolution (see the module docstring)."""
+    """One camera's plate of the room at reduced resolution (docs/colorshirt.md, "Design notes")."""
 
     def __init__(self, still: float = 30.0, still_frames: int = 3, known_frames: int = 4,
                  rate: float = 0.05, threshold: float = 45.0,

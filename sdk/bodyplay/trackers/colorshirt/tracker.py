@@ -103,7 +103,7 @@ class _Fit:
 
 
 class ColorShirtTracker:
-    """Upper-body tracker for the color shirt (see the module docstring)."""
+    """Upper-body tracker for the color shirt (docs/colorshirt.md, "Design notes")."""
 
     name = "colorshirt"
 
