@@ -1,4 +1,13 @@
-"""The color-shirt tracker (papers/color-shirt-mocap.txt): upper body from a colored shirt."""
+"""The color-shirt tracker (papers/color-shirt-mocap.txt): upper body from a colored shirt.
+
+Build one with :func:`create_colorshirt_tracker`; it implements
+:class:`bodyplay.trackers.base.Tracker`. Modules: :mod:`.colors` (color model and
+classifier), :mod:`.whitebalance`, :mod:`.locate` (histogram search),
+:mod:`.database` (rendered pose database), :mod:`.prediction` (rendering the
+estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.views` (per-camera
+state, crop classification clean-up and query), :mod:`.camerawork` (the steps in
+each camera's image), :mod:`.tracker` (the pipeline).
+"""
 
 from __future__ import annotations
 
@@ -29,7 +38,13 @@ def create_colorshirt_tracker(
     database: PoseDatabase | None = None,
     progress: bool = False,
 ) -> ColorShirtTracker:
-    """Validate the options and cameras and build a ready tracker."""
+    """Validate the options and cameras and build a ready tracker.
+
+    The pose database is loaded from the cache (built on first use, which takes
+    about a minute per 20,000 poses) unless ``database`` is given. With
+    ``body="auto"`` the database is the reference body's (``m``) and every preset
+    is built as a candidate.
+    """
     opts = options or ColorShirtOptions()
     cams = tuple(cameras)
     if not 1 <= len(cams) <= 4:

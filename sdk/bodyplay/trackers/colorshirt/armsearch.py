@@ -1,4 +1,36 @@
-"""Arm search: each arm chosen on its own from a library of arm configurations."""
+"""Arm search: each arm chosen on its own from a library of arm configurations.
+
+The database is looked up with the whole shirt, so a pose is only found when the
+torso *and both arms* resemble one stored pose: the coverage of two arms together
+is the product of each arm's: the nearest stored *arm* (relative to the shoulder,
+in the neck's frame) lies much nearer than the nearest whole pose, and the IK,
+started from the blend, inherits the blend's wrong arms.
+
+So, after the 6-DOF fit of the blend, each arm is replaced by the library's arm that
+best explains the classified pixels in every camera, the torso staying where the
+fit put it. The library is the database's own arm configurations (clavicle,
+shoulder, elbow, wrist rotations, relative to the neck), thinned by farthest-point
+sampling of the shoulder, elbow and wrist positions. A candidate's score is a
+truncated chamfer distance in both directions: the arm's shirt surface is
+represented by sample points (face centres of its five patches, 30 per patch) with
+the patch's color; every point facing a camera is projected into that camera's
+crop and costs its distance to the nearest pixel classified as its color
+(:func:`cv2.distanceTransform`), at most ``tau``; and every pixel of the four
+colors only the arms wear costs its distance to the nearest visible point of its
+color on either arm. The blend's own arm and the previous frame's arm are
+candidates too. The best few of each arm are blended (weights falling off
+exponentially with the score), as the database blends its neighbours.
+
+With one camera the chamfer cannot tell an arm's depth: among arms with the same
+outline it picks one leaning in depth at random. There each candidate also pays
+``pull`` per (10 cm)² of mean squared distance of its elbow and wrist from the
+blend's, relative to the neck, so the outline comes from the image and the lean from
+the database (run once the body is chosen). Two cameras see depth: no pull.
+The figures are in docs/colorshirt.md.
+
+This is beyond the paper (which blends whole database poses); it changes only the
+starting point and the blend prior of the IK that follows, not the IK itself.
+"""
 
 from __future__ import annotations
 
@@ -43,7 +75,11 @@ def _arm_patches(side: str) -> tuple[int, ...]:
 
 def color_distance_maps(ids: NDArray[np.uint8], colors: tuple[int, ...] | None = None
                         ) -> NDArray[np.float32]:
-    """(10, H, W) distance in pixels to the nearest pixel of each color in a color map."""
+    """(10, H, W) distance in pixels to the nearest pixel of each color in a color map.
+
+    ``ids`` holds color ids (0 = unclassified, k + 1 = color k). A color with no pixel
+    (or not in ``colors``, when given) gets a map of large distances.
+    """
     h, w = ids.shape
     out = np.empty((NUM_COLORS, h, w), np.float32)
     for k in range(NUM_COLORS):
@@ -140,7 +176,12 @@ def _chamfer(A: NDArray[np.float64], rel: NDArray[np.float64], pnode: NDArray[np
 
 @dataclass(frozen=True)
 class ArmChoice:
-    """What the search chose for one arm (before the blend of the best few)."""
+    """What the search chose for one arm (before the blend of the best few).
+
+    ``index``: the library entry, or -1 for the blend's own arm and -2 for the
+    previous frame's; ``score``: the chosen pair's cost (truncated chamfer, in units
+    of ``tau``); ``kept_score``: the cost of keeping both of the blend's arms.
+    """
 
     side: str
     index: int
@@ -208,7 +249,23 @@ class ArmSearch:
                views: list[ArmView], previous: NDArray[np.float64] | None = None,
                temperature: float = 0.02, top: int = 24, min_seen: float = 0.15,
                pull: float = 0.0) -> tuple[NDArray[np.float64], list[ArmChoice]]:
-        """``q`` with its arms replaced by the candidates that best explain the pixels."""
+        """``q`` with its arms replaced by the candidates that best explain the pixels.
+
+        Stage 1 scores every candidate of each arm by the model-to-image chamfer cost.
+        Stage 2 takes each arm's ``top`` candidates (and always the blend's arm) and
+        scores every left-right pair by that cost plus the image-to-model one: how far
+        each pixel of the four arm-only colors lies from the nearest visible point of
+        its color on either arm. Stage 2 catches an arm that fits inside the observed
+        arm but leaves part of it unexplained (too short, bent, pointing away).
+        Stage 1 alone favours such arms (a forearm folded across the upper arm's
+        pixels costs little), so the shortlist must be long enough to hold the arm
+        that also explains the rest (with 8 per arm a raised forearm was held
+        folded).
+
+        ``pull`` (for one camera, which cannot see an arm's lean in depth) adds, per
+        (10 cm)² of mean squared distance of a candidate's elbow and wrist from the
+        blend's arm (in the neck's frame), that much to its cost.
+        """
         if not views:
             return q.copy(), []
         T = self.skeleton.forward(q)
@@ -300,7 +357,12 @@ class ArmSearch:
 
 
 class ArmSearches:
-    """One tracker's arm searches: the library, chosen once, and a search per body."""
+    """One tracker's arm searches: the library, chosen once, and a search per body.
+
+    The library is thinned from ``poses`` (the database's) on first use, with the
+    first body's skeleton; each body preset (its bone lengths and mesh) gets its own
+    :class:`ArmSearch` over the same library, built when the tracker first fits it.
+    """
 
     def __init__(self, poses: NDArray[np.floating], size: int) -> None:
         self._poses = poses
@@ -312,7 +374,12 @@ class ArmSearches:
                cameras: tuple[Camera, ...], views: list[CameraView],
                previous: NDArray[np.float64] | None, tau: float, temperature: float,
                top: int, pull: float = 0.0) -> tuple[NDArray[np.float64], list[ArmChoice]]:
-        """:meth:`ArmSearch.search` of ``body`` on the tracker's camera views."""
+        """:meth:`ArmSearch.search` of ``body`` on the tracker's camera views.
+
+        ``tau`` is the truncation in shirt sizes (each view's classified extent),
+        ``top`` the shortlist per arm that stage 2 pairs, ``pull`` the cost per
+        (10 cm)² of an arm's distance from the blend's.
+        """
         search = self._searches.get(body)
         if search is None:
             if self._library is None:
@@ -328,7 +395,12 @@ class ArmSearches:
 
 @dataclass(frozen=True, eq=False)
 class ArmView:
-    """One camera's input to the arm search."""
+    """One camera's input to the arm search.
+
+    ``distances``: :func:`color_distance_maps` of the classification; ``arm_pixels``:
+    (N, 3) crop x, y and color index of (a sample of) the pixels classified as one of
+    the four arm-only colors; ``tau``: truncation of every distance, crop pixels.
+    """
 
     camera: int
     window: CropWindow
@@ -425,7 +497,11 @@ def _arm_columns(skeleton: Skeleton, side: str) -> NDArray[np.intp]:
 
 def arm_library(skeleton: Skeleton, poses: NDArray[np.float64], size: int, seed: int = 0
                 ) -> dict[str, NDArray[np.float64]]:
-    """Per side, ``size`` of ``poses`` whose arms are spread evenly."""
+    """Per side, ``size`` of ``poses`` whose arms are spread evenly.
+
+    Greedy farthest-point sampling on the shoulder, elbow and wrist positions
+    relative to the neck, in the neck's frame (the torso does not matter).
+    """
     poses = np.asarray(poses, np.float64)
     T = skeleton.forward(poses)
     inv = np.linalg.inv(T[:, skeleton.node_index(_PARENT)])

@@ -1,4 +1,13 @@
-"""Choosing the body-size preset at start-up (``ColorShirtOptions(body="auto")``)."""
+"""Choosing the body-size preset at start-up (``ColorShirtOptions(body="auto")``).
+
+The silhouette paper picks its body model among several sizes; here every preset of
+:data:`bodyplay.body.shapes.BODY_SHAPES` is fitted (6-DOF + IK with its own skeleton
+and generic mesh) on the first frames where the shirt is found, and the preset whose
+patch anchors reproject closest to the observed patch centroids (the IK data term,
+in units of the shirt's size in the image so every preset is judged on the same
+scale) wins. The pose database stays the reference body's: it only supplies joint
+angles, retrieved from normalized crops.
+"""
 
 from __future__ import annotations
 
@@ -72,7 +81,11 @@ def arm_variants(body: BodyModel, cameras: tuple[Camera, ...],
 
 def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
                           anchors: PatchAnchors, size_px: NDArray[np.float64]) -> float:
-    """Mean distance between projected anchors and observed centroids at pose ``q``."""
+    """Mean distance between projected anchors and observed centroids at pose ``q``.
+
+    ``size_px`` (A,) is the shirt's size in the image of each anchor's camera: the
+    distances are relative to it, independent of the candidate body's own size.
+    """
     if len(anchors) == 0:
         return float("nan")
     proj = solver.project(q, anchors)[0]
@@ -81,7 +94,23 @@ def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
 
 @dataclass
 class BodySelection:
-    """Running mean residual of each candidate preset over the start-up frames."""
+    """Running mean residual of each candidate preset over the start-up frames.
+
+    ``frames`` is how many frames with a fit decide; ``previous`` holds each
+    candidate's last pose (its own temporal prior while the candidates run side by
+    side); ``chosen`` is set once the frames are in. ``halvings`` are the fractions
+    of ``frames`` after which the worse half of the candidates still in the race
+    (``active``) drops out (successive halving, down to two), except candidates
+    within ``tolerance`` of the lowest mean, which the rule below could still
+    choose: the clear losers stop costing a fit per frame early, the close ones
+    are decided on every frame.
+    ``tolerance``: the first candidate in ``names`` order whose mean residual is
+    within this fraction of the lowest wins (0: the lowest wins); the arm-length
+    stage lists its candidates shortest first, so that it prefers the shortest arm
+    that fits (a longer one fits as well by leaning in depth). Frames that cannot
+    judge are :meth:`skip`-ped; after ``patience`` times ``frames`` of them, a
+    fallback is chosen.
+    """
 
     names: tuple[str, ...]
     frames: int

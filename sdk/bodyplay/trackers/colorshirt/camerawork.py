@@ -1,4 +1,13 @@
-"""The color-shirt tracker's work in each camera's image (:class:`CameraWork`)."""
+"""The color-shirt tracker's work in each camera's image (:class:`CameraWork`).
+
+Everything the tracker does with one camera's pixels: undistort, background
+mask (MOG2) and plates, histogram search near the shirt's last box, crop, white
+balance and classification inside the gate, database query (:meth:`CameraWork.view`);
+with the pose's render, the step-2 correspondences and the step-3 pose-assisted
+reclassification, and the step-5 refit of ``W``; after a pose is reported, each
+camera's gate and search box and its room plate. The 3-D side (blend, fits, body
+choice) is :mod:`.tracker`'s.
+"""
 
 from __future__ import annotations
 
@@ -90,7 +99,14 @@ def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
 
 
 class CameraWork:
-    """The per-camera image steps of the tracker (docs/colorshirt.md, "Design notes")."""
+    """The per-camera image steps of the color-shirt tracker (see the module docstring).
+
+    Holds what they need that never changes while tracking (options, cameras and
+    their undistortion maps, the shirt locator, the color models, the pose
+    database); what each camera remembers between frames is its
+    :class:`CameraState`, passed in, and the body's renderer is passed in too (the
+    start-up's body choice changes it).
+    """
 
     def __init__(self, options: ColorShirtOptions, cameras: tuple[Camera, ...],
                  database: PoseDatabase, color_model: ColorModel) -> None:
@@ -125,13 +141,26 @@ class CameraWork:
     # ---- one camera's share of a frame: locate, classify, query ----------------------
     def view(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
              confirmed: bool) -> CameraView | None:
-        """Camera ``i``'s view of the frame at ``t`` (None: no shirt there)."""
+        """Camera ``i``'s view of the frame at ``t`` (None: no shirt there).
+
+        ``confirmed``: whether the tracker holds a pose reported (until one is,
+        the floor cue's plate takes the shirt-like region for possible clutter).
+        """
         found = self.views(i, st, image, t, confirmed, 1)
         return found[0] if found else None
 
     def views(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
               confirmed: bool, count: int, tracked: bool = False) -> list[CameraView]:
-        """Camera ``i``'s candidate views of the frame at ``t``, best located first."""
+        """Camera ``i``'s candidate views of the frame at ``t``, best located first.
+
+        With ``count`` 1 the one region the histogram search finds (near the
+        shirt's last box first, within the gate; else in the whole frame, with
+        the motion mask), committed; else up to ``count`` shirt-like regions of
+        the whole frame (:meth:`ShirtLocator.candidates`, without the gate or
+        the motion mask), after that region if ``tracked``, each classified
+        with its own white balance and matched to the database: the tracker
+        chooses (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
+        """
         o = self.options
         maps = self._undistort[i]
         if maps is not None:
@@ -296,7 +325,12 @@ class CameraWork:
                    t: float) -> NDArray[np.bool_] | None:
         """Crop mask of where the shirt can be at ``t``: the shirt's box in the last
         pose reported, grown by ``gate_speed`` times its size per second since (at
-        least a 30th of a second; None: no pose reported within ``gate_time``)."""
+        least a 30th of a second; None: no pose reported within ``gate_time``).
+
+        Colors outside it cannot pull the pose: without it, blobs of a poster or of
+        clothes in shirt colors next to the player were kept, grew the crop, and
+        the crop took in more of them frame after frame.
+        """
         box = self._gate_box(st, t)
         if box is None:
             return None
@@ -339,7 +373,13 @@ class CameraWork:
 
     def refit_white_balance(self, st: CameraState, view: CameraView,
                             rend: RenderedPose) -> None:
-        """Step 5: ``W*`` from the final pose's id map; store it in ``st`` if it is new."""
+        """Step 5: ``W*`` from the final pose's id map; store it in ``st`` if it is new.
+
+        Pixels count when the final pose renders them (away from patch edges) and the
+        refined classification agrees on their color, so a slightly misplaced render
+        cannot drag a color's mean towards its neighbour's. ``W*`` is damped towards
+        the current ``W`` (``wb_smoothing``) against frame-to-frame jitter.
+        """
         colors = rend.color_ids()
         inner = cv2.erode((colors > 0).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
         keep = inner & (view.ids == colors)

@@ -1,4 +1,19 @@
-"""The shirt's color model: ten Gaussians in RGB and Mahalanobis pixel classification."""
+"""The shirt's color model: ten Gaussians in RGB and Mahalanobis pixel classification.
+
+The color-shirt paper models each of the ten fabric colors as a Gaussian
+``N(mu_k, Sigma_k)`` in RGB (0..255) and classifies a white-balanced pixel ``W I``
+as the nearest color in Mahalanobis distance when that distance is under ``T``
+(3 in step 1, 5 with the pose prior of step 3); farther pixels are unclassified.
+
+A *color id map* is a ``uint8`` image with 0 for unclassified / background and
+``k + 1`` for shirt color ``k`` (0..9, the order of
+:data:`bodyplay.body.shirt.SHIRT_COLORS`). The database of rendered poses uses the
+same convention, so classified crops and renders compare pixel by pixel.
+
+The classification kernel is numba-compiled: it white-balances, measures all ten
+distances, adds the optional per-color pose-prior penalty and thresholds in one
+pass over the pixels.
+"""
 
 from __future__ import annotations
 
@@ -89,7 +104,11 @@ class Classification:
 
 @dataclass(frozen=True, eq=False)
 class ColorModel:
-    """Ten Gaussians ``N(mu_k, Sigma_k)`` in RGB 0..255, one per shirt color."""
+    """Ten Gaussians ``N(mu_k, Sigma_k)`` in RGB 0..255, one per shirt color.
+
+    Build one with :meth:`fit` (labeled pixels), :func:`srgb_color_model` (the
+    nominal fabric colors) or :func:`default_color_model` (the shipped fit).
+    """
 
     means: NDArray[np.float64]
     covariances: NDArray[np.float64]
@@ -119,7 +138,11 @@ class ColorModel:
     # ---- construction ------------------------------------------------------------
     @classmethod
     def fit(cls, pixels: ArrayLike, labels: ArrayLike, min_pixels: int = 20) -> ColorModel:
-        """Fit the ten Gaussians to RGB ``pixels`` (N, 3) with color ``labels`` (N,)."""
+        """Fit the ten Gaussians to RGB ``pixels`` (N, 3) with color ``labels`` (N,).
+
+        Labels are color indices 0..9; negative labels are ignored. Every color needs
+        at least ``min_pixels`` samples; a small ridge keeps covariances invertible.
+        """
         px = np.asarray(pixels, dtype=np.float64).reshape(-1, 3)
         lab = np.asarray(labels).reshape(-1)
         if lab.shape[0] != px.shape[0]:
@@ -144,7 +167,16 @@ class ColorModel:
         return np.linalg.inv(L).astype(np.float32)
 
     def effective_inverse(self, white_balance: NDArray[np.float32]) -> NDArray[np.float32]:
-        """Inverse Cholesky factors of the covariances seen through ``white_balance``."""
+        """Inverse Cholesky factors of the covariances seen through ``white_balance``.
+
+        The Gaussians were fitted to images that needed little correction. A strong
+        ``W`` (a blue gain of 3 in dim tungsten light) also amplifies the camera's
+        measurement error ``e``: a balanced pixel ``W (x + e)`` spreads by
+        ``W S W^T`` instead of ``S``, ``S = measurement_noise^2 I``. The difference,
+        where it is positive, is added to every color's covariance, so dark, strongly
+        corrected colors are not rejected merely for being noisy. (The paper uses the
+        fitted covariances as they are: ``measurement_noise = 0``.)
+        """
         if self.measurement_noise <= 0:
             return self._linv
         W = np.asarray(white_balance, dtype=np.float64)
@@ -175,7 +207,13 @@ class ColorModel:
         mask: NDArray[np.bool_] | None = None,
         penalty: NDArray[np.float32] | None = None,
     ) -> Classification:
-        """Classify an RGB image into a color id map."""
+        """Classify an RGB image into a color id map.
+
+        ``white_balance`` is the 3x3 ``W`` applied to each pixel first (identity when
+        None); ``mask`` restricts classification to foreground pixels (the paper's
+        background-subtraction mask); ``penalty`` (H, W, 10) is added to each color's
+        distance before the arg-min and the threshold (the pose prior ``C d``).
+        """
         img = np.ascontiguousarray(image)
         if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
             raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
@@ -241,7 +279,12 @@ class ColorModel:
 
 
 def srgb_color_model(noise: float = 12.0, shading: float = 0.18) -> ColorModel:
-    """A model from the nominal sRGB fabric colors."""
+    """A model from the nominal sRGB fabric colors.
+
+    Each covariance is isotropic sensor noise (``noise`` std, RGB units) plus an
+    elongation along the mean color (``shading`` relative std), since shading mostly
+    scales a patch's color.
+    """
     means = np.array([c.rgb for c in SHIRT_COLORS], dtype=np.float64)
     covs = np.empty((NUM_COLORS, 3, 3))
     for k, mu in enumerate(means):

@@ -1,4 +1,23 @@
-"""The pose database: tiny id maps of rendered poses, nearest-neighbour search, blending."""
+"""The pose database: tiny id maps of rendered poses, nearest-neighbour search, blending.
+
+Step 2 of the paper looks the classified shirt up in a database of rendered
+upper-body poses (80,000 in the paper) as 40x40 color id maps, takes the ten
+nearest neighbours under the per-pixel mismatch distance and blends their poses.
+
+Poses come from :func:`bodyplay.motion.sample_poses` and get a random orientation
+broadly facing a *canonical camera* (yaw +-75 degrees, some lean and roll). Each
+is skinned with the generic body mesh and rasterized in the bounding box of its
+shirt vertices, normalized into a square 40x40 crop exactly as
+:func:`bodyplay.render.idmap.crop_transform` does; the crop scale and the root's
+crop position and depth are kept so a blended pose can be placed in any camera.
+
+Search: exact mismatch over 80,000 maps of 1,600 pixels is too slow per frame,
+so every map is also stored as a short feature (one-hot colors averaged over 4x4
+blocks, projected on 64 principal components); a matrix-vector product ranks all
+poses by feature distance and the best ``candidates`` are re-ranked by the exact
+mismatch. Databases are cached on disk keyed by a hash of everything that shapes
+them, and rebuilt when any of it changes.
+"""
 
 from __future__ import annotations
 
@@ -34,7 +53,14 @@ _POOL = 4  # feature pooling block (40x40 -> 10x10)
 
 @dataclass(frozen=True)
 class DatabaseOptions:
-    """What the database holds and how it is searched."""
+    """What the database holds and how it is searched.
+
+    ``size`` poses (the paper uses 80,000); ``map_size`` the side of the id maps;
+    ``yaw_deg`` the range of orientations relative to the
+    canonical camera (``tilt_deg`` the largest lean); ``pca_dims`` and ``candidates``
+    the coarse search;
+    ``neighbours`` how many are blended; ``margin`` the crop margin.
+    """
 
     size: int = 20_000
     map_size: int = 40
@@ -96,7 +122,12 @@ def shirt_vertex_mask(mesh: SkinnedMesh) -> NDArray[np.bool_]:
 def sample_database_poses(
     skeleton: Skeleton, n: int, rng: np.random.Generator, options: DatabaseOptions
 ) -> NDArray[np.float64]:
-    """``n`` upper-body poses from :func:`bodyplay.motion.sample_poses`, facing the camera."""
+    """``n`` upper-body poses from :func:`bodyplay.motion.sample_poses`, facing the camera.
+
+    Mixed clip frames (the built-in CMU clips), random upper bodies and blends, with
+    yaw within ``options.yaw_deg`` of facing the canonical camera and a small tilt;
+    drawn without thinning (farthest-point thinning costs minutes at 80,000).
+    """
     from bodyplay.motion import list_builtin_clips, sample_poses
 
     yaw = float(np.radians(options.yaw_deg))
@@ -182,7 +213,12 @@ def _pooled_onehot(  # pragma: no cover - compiled
 @numba.njit(cache=True, nogil=True, fastmath=True)
 def _matvec(A: NDArray[np.float32], x: NDArray[np.float32]
             ) -> NDArray[np.float32]:  # pragma: no cover - compiled
-    """``A @ x`` on the calling thread."""
+    """``A @ x`` on the calling thread.
+
+    Per frame, ``numpy``'s ``@`` of this size wakes OpenBLAS's thread pool, whose
+    threads then spin on the second core and starve OpenCV and the other camera's
+    work: two cameras took 64-76 ms per frame set with it and 49-52 ms with this.
+    """
     out = np.empty(A.shape[0], np.float32)
     for i in range(A.shape[0]):
         s = np.float32(0.0)
@@ -217,7 +253,11 @@ def mismatch(a: NDArray[np.uint8], b: NDArray[np.uint8]) -> NDArray[np.int64]:
 
 
 def blend_poses(poses: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Weighted blend of pose vectors: roots averaged, every node rotation averaged on SO(3)."""
+    """Weighted blend of pose vectors: roots averaged, every node rotation averaged on SO(3).
+
+    The weighted mean of the rotation matrices is projected back onto SO(3) (SVD),
+    which stays sensible for the spread of a few nearest neighbours.
+    """
     w = np.asarray(weights, dtype=np.float64)
     w = w / w.sum()
     q = np.asarray(poses, dtype=np.float64)
@@ -244,7 +284,12 @@ class Neighbours:
 
 @dataclass(frozen=True, eq=False)
 class BlendedPose:
-    """A weighted blend of neighbours, relative to the canonical camera."""
+    """A weighted blend of neighbours, relative to the canonical camera.
+
+    ``pose`` has the canonical root and orientation; ``root_crop`` is where the root
+    projects in the normalized crop, ``root_depth`` its depth and ``crop_scale`` the
+    crop pixels per canonical image pixel, all blended.
+    """
 
     pose: NDArray[np.float64]
     root_crop: NDArray[np.float64]
@@ -255,7 +300,7 @@ class BlendedPose:
 
 @dataclass(frozen=True, eq=False)
 class PoseDatabase:
-    """Rendered poses and their search structure (docs/colorshirt.md, "Design notes")."""
+    """Rendered poses and their search structure (see the module docstring)."""
 
     options: DatabaseOptions
     poses: NDArray[np.float32]
@@ -290,7 +335,10 @@ class PoseDatabase:
 
     def query(self, idmap: NDArray[np.uint8], k: int | None = None,
               exact: bool = False) -> Neighbours:
-        """The ``k`` nearest maps (default ``options.neighbours``) by pixel mismatch."""
+        """The ``k`` nearest maps (default ``options.neighbours``) by pixel mismatch.
+
+        ``exact`` scans every map (slow; for measuring the coarse search's recall).
+        """
         o = self.options
         k = o.neighbours if k is None else k
         if idmap.shape != (o.map_size, o.map_size):

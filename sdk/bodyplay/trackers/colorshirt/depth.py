@@ -1,5 +1,59 @@
 """One camera's root depth over time: one Kalman filter for the feet, the body's size
-and its stance."""
+and its stance.
+
+One camera cannot tell a small person near from a tall one far. Three cues tell
+the root's depth ``d`` along the camera's axis, each with a stated noise:
+
+* the **feet on the floor** (:mod:`.floor`): where the lowest pixels of the
+  person meet the floor, raised to the root's height; a few cm when the feet
+  stand on the floor, metres off when they leave it, absent without a background
+  plate;
+* the **body's known lengths**: the torso's patch anchors fitted to the image,
+  held only loosely at the database placement (:meth:`.ik.KinematicSolver.solve_global`),
+  put the root at the depth where the skeleton's metric lengths project as large as
+  the shirt looks. It is always there, noisy (a lean towards the camera reads as
+  distance) and biased by the ratio of the player's size to the model's: an 8%
+  larger player reads 8% too near;
+* the **root's height** (the stance): the root lies on the ray through where the
+  fit sees it, whose height at depth ``d`` is ``c_y + r d`` (``c_y`` the camera's
+  height, ``r`` the ray's rise per metre of depth); a player standing on the
+  floor holds it at the legs' length, ``s h0`` for a player ``s`` times the
+  reference body's size (``h0`` its standing pelvis height). The camera's
+  height is the metric ruler here: the cue ties size and depth together
+  without the feet, and tells when the feet leave the floor (the root then
+  stands higher than the legs are long).
+
+:class:`RootDepthFilter` combines them in one Kalman filter (filterpy) on
+``[depth, depth speed, body scale, floor bias, stance bias, shirt bias]``. The
+size and the depth are coupled in two of the three readings: the shirt reads
+``d / (s (1 + e))`` (linearized about the state: an extended Kalman filter;
+``e`` is the shirt's own bias per player, beyond the size: the generic mesh
+against the player's torso) and the stance ``c_y + r d = s h0 + b_h``. The
+biases are what no number of readings averages away, so the reported
+uncertainty never falls below them: ``b_f``,
+where the lowest pixel of a foot lies relative to the pelvis in this player's
+stance (toes towards the camera, a bow that moves the pelvis back; prior
+``floor_bias_std``), and ``b_h``, how far this player's root stands from the
+reference body's standing height scaled (knees bent in a boxing stance, the fit
+placing the root's pixel a little off; prior ``stance_bias_std``).
+
+Each reading is left out when its innovation exceeds ``gate`` variances, and
+two are one-sided: feet and a root that leave the floor do so upwards only. A
+floor reading further than predicted by more than one standard deviation of
+the innovation is left out (a hop's rising feet passed a symmetric gate a
+little at a time and dragged the depth too far), and so is one at whose
+depth the root would stand higher than the legs are long by more than two
+standard deviations (``air_gate``: the feet are in the air); a stance reading
+that puts the root that high is left out too (a jump), and one far below
+standing (a crouch) by ``gate``. A player who really walks away is followed
+through the shirt's and the stance's readings, or after ``max_rejects`` floor
+readings in a row. Beyond the paper.
+
+Per frame: :meth:`RootDepthFilter.begin` (predict; the feet's floor reading),
+:meth:`RootDepthFilter.posterior` for each candidate fit (its readings folded
+in, nothing committed: the IK's prior on the root's depth), and
+:meth:`RootDepthFilter.end` with the reported fit's readings.
+"""
 
 from __future__ import annotations
 
@@ -30,7 +84,26 @@ class RootRay:
 @dataclass
 class RootDepthFilter:
     """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias,
-    shirt bias]`` along a lone camera's axis (docs/colorshirt.md, "Design notes")."""
+    shirt bias]`` along a lone camera's axis (see the module docstring).
+
+    ``accel``: std of the root's acceleration along the axis (m/s², white noise);
+    ``floor_std``: std of a floor reading (m); ``shirt_std``: std of the shirt's
+    reading as a fraction of the depth; ``scale_std``: the prior std of the
+    player's size relative to the reference body; ``floor_bias_std``: the prior std
+    of the floor readings' common bias (m); ``standing_height``: the reference
+    body's standing root height ``h0`` (m; 0: no stance reading);
+    ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
+    of this player's stance bias (m); ``shirt_bias``, ``shirt_bias_std``: the prior
+    mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``);
+    ``gate``: squared innovation, in
+    variances, beyond which a reading is left out (``air_gate`` above standing:
+    a stance reading further above, and a floor reading whose depth puts the
+    root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
+    readings in a row the depth restarts from the reading (it, not the
+    prediction, was right), unless the shirt's reading contradicts it too;
+    ``horizon``: seconds without a reading after which the
+    depth lapses (the learned scale and biases stay).
+    """
 
     accel: float = 3.0
     floor_std: float = 0.05

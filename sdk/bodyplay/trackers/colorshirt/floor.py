@@ -1,4 +1,26 @@
-"""Where the feet meet the floor: a depth cue for one camera, from a background plate."""
+"""Where the feet meet the floor: a depth cue for one camera, from a background plate.
+
+One camera cannot tell a small person near from a tall one far: the shirt alone
+fixes only the ratio of size to distance. The feet can: they stand on the floor
+(world ``y = 0``), so the ray through the lowest pixel of the person meets the
+floor at the person's distance. Beyond the paper.
+
+Finding the feet needs a foreground mask that keeps legs that do not move, which
+an adaptive subtractor (MOG2) does not: it absorbs a still person within frames.
+:class:`BackgroundPlate` therefore learns the empty room (as a game does when it
+asks the player to step out of view for a moment) and afterwards updates only
+away from the person, correcting the plate for global changes of light by a gain
+per channel measured there. :func:`feet_points` takes the lowest foreground pixels
+of each foot of the blob below the shirt; :func:`floor_depth` turns them into a depth along the
+camera's axis.
+
+Without empty-room frames (the player in view from the first frame) the feet are
+read from the room plate (:class:`.plate.RoomPlate`), which learns the room from
+what the player uncovers: a foot counts only where the plate knows the floor
+under it, so a player who walks onto floor seen before tells the depth, and one
+who stands still where the room was never seen gives no reading (the tracker
+then falls back on the shirt's size, as without any plate).
+"""
 
 from __future__ import annotations
 
@@ -26,7 +48,13 @@ high (20-30 cm too far). The lowest points are read on the undilated mask."""
 
 
 class BackgroundPlate:
-    """The empty room as seen by one camera, at reduced resolution (OpenCV running mean)."""
+    """The empty room as seen by one camera, at reduced resolution (OpenCV running mean).
+
+    While nobody is in view (:meth:`learn`), every pixel follows the frames; once
+    ``min_frames`` such frames were seen the plate is :attr:`ready`. While a person
+    is tracked (:meth:`update_around`), only pixels outside the person's region
+    follow, slowly, so that a player who stands still never fades into the plate.
+    """
 
     def __init__(self, downscale: int = 2, min_frames: int = 8, rate: float = 0.02,
                  threshold: float = 40.0, contrast_level: float = 330.0) -> None:
@@ -76,7 +104,14 @@ class BackgroundPlate:
     def update_around(self, small: NDArray[np.float32], person: Box) -> None:
         """A tracked frame: the whole plate follows the light's global change (one
         gain per channel, measured outside ``person``), then pixels outside
-        ``person`` (plate pixels) follow the frame slowly."""
+        ``person`` (plate pixels) follow the frame slowly.
+
+        Scaling the whole plate keeps the part behind the person in step with the
+        part around it: when only the surroundings followed a lamp switched off,
+        the gain measured there drifted back to 1 within a few dozen frames while
+        the plate behind the person still showed the room in the old light, and
+        the whole region turned foreground.
+        """
         if self._mean is None:
             return
         gain, _ = self._light_change(small, person)
@@ -107,7 +142,14 @@ class BackgroundPlate:
         return np.ones(3, np.float32), float(np.sum(cv2.mean(plate[::step, ::step])[:3]))
 
     def foreground(self, small: NDArray[np.float32], person: Box) -> NDArray[np.bool_] | None:
-        """Foreground mask of ``small`` within ``person`` (False elsewhere)."""
+        """Foreground mask of ``small`` within ``person`` (False elsewhere).
+
+        The plate is first scaled by the light's change, and the threshold by the
+        room's brightness (:attr:`contrast_level`).
+
+        The change is one gain per channel: the ratio of the frame's mean to the
+        plate's over the pixels outside ``person``. None before the plate is ready.
+        """
         if not self.ready or self._mean is None:
             return None
         gain, level = self._light_change(small, person)
@@ -142,7 +184,21 @@ def person_region(shirt: Box, width: int, height: int) -> Box:
 
 def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int,
                 known: NDArray[np.bool_] | None = None) -> tuple[FeetPoint, ...]:
-    """The lowest point of each foot of the blob the shirt belongs to (none, one or two)."""
+    """The lowest point of each foot of the blob the shirt belongs to (none, one or two).
+
+    ``fg`` is a plate-resolution mask, ``shirt`` the shirt's box in full-resolution
+    pixels. The feet are the runs of columns whose lowest blob pixel lies in the
+    blob's lowest tenth; the two lowest runs count (a foot hidden behind the other
+    leaves one). With ``known`` (the pixels a :class:`.plate.RoomPlate` has learned,
+    whose ``fg`` counts unknown pixels as the player's), a foot counts only where
+    its lowest pixels are known (the room there was seen, so the foot is *seen* to
+    differ from it) and the pixel below each is known room: the foot's edge is
+    observed, not the edge of what the plate has not learned yet (the silhouette
+    grown around a still player, which read the feet 30-60 cm too near). Nothing
+    is returned when the shirt's box holds little foreground
+    (the plate does not fit the scene), when the blob reaches the image's lower edge
+    (feet out of view) or when nothing of it lies below the shirt (no legs).
+    """
     s = downscale
     h, w = fg.shape
     x0, y0, x1, y1 = (int(c // s) for c in shirt)
@@ -191,7 +247,10 @@ def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int,
 
 
 def floor_depth(camera: Camera, feet: FeetPoint) -> float | None:
-    """Depth along ``camera``'s axis where the ray through ``feet`` meets the floor y = 0."""
+    """Depth along ``camera``'s axis where the ray through ``feet`` meets the floor y = 0.
+
+    None when the ray does not go down to the floor in front of the camera.
+    """
     ray_cam = np.linalg.solve(camera.K, np.array([feet.u, feet.v, 1.0]))
     ray_world = camera.R.T @ ray_cam
     center = camera.center
@@ -202,7 +261,12 @@ def floor_depth(camera: Camera, feet: FeetPoint) -> float | None:
 
 
 class FloorWatch:
-    """One camera's floor cue across frames: its plate, and each frame's feet on demand."""
+    """One camera's floor cue across frames: its plate, and each frame's feet on demand.
+
+    Per frame: :meth:`start` with the image, then :meth:`no_shirt` or
+    :meth:`shirt_at`; :meth:`feet` finds the feet only when asked (the tracker asks
+    when one camera alone sees the shirt), so a second camera costs only the plate.
+    """
 
     def __init__(self, plate: BackgroundPlate | None = None) -> None:
         self.plate = plate or BackgroundPlate()
@@ -234,7 +298,13 @@ class FloorWatch:
             self.plate.learn(self._small)
 
     def shirt_at(self, shirt: Box, confirmed: bool = True) -> None:
-        """The shirt's box (full-resolution px) in this frame; the plate moves on around it."""
+        """The shirt's box (full-resolution px) in this frame; the plate moves on around it.
+
+        ``confirmed``: whether the tracker has reported a pose yet. Until it has,
+        a shirt-like region may be clutter of the room (clothes or a poster in
+        shirt colors), and the plate goes on learning the whole frame (the
+        tracker calls :meth:`no_shirt` on every such frame).
+        """
         self._shirt = shirt
         if not confirmed and not self.seen_shirt:
             return  # the plate learned the frame (:meth:`no_shirt`)
@@ -260,7 +330,11 @@ class FloorWatch:
 
     def crop_foreground(self, box: Box, size: tuple[int, int]) -> NDArray[np.bool_] | None:
         """The plate's foreground inside ``box`` (full-resolution px), resized to ``size``
-        (width, height) of the working crop; None before the plate is ready."""
+        (width, height) of the working crop; None before the plate is ready.
+
+        Unlike MOG2's mask, the plate never learns the player: a player who stands
+        still stays foreground, so the mask can be trusted right next to the shirt.
+        """
         if self._small is None or not self.plate.ready:
             return None
         d = self.plate.downscale

@@ -1,4 +1,18 @@
-"""Where the head is: a cue from the background plate for the one joint the shirt misses."""
+"""Where the head is: a cue from the background plate for the one joint the shirt misses.
+
+The shirt covers the torso and arms; the head has no patch, so the paper's IK
+leaves it wherever the database blend puts it (8 cm off on average with two
+cameras on the benchmark, more than any torso joint). Above the collar, though,
+the head is the only foreground: given where the current fit predicts the head,
+:func:`find_head` looks in the plate's foreground mask (:mod:`.floor`) for a disk
+of the head's projected size there, above the neck, and returns its centre. The
+tracker turns each camera's centre into a 2-D constraint on the head joint
+(a patch anchor on the head node) in its IK. Beyond the paper.
+
+The cue needs what the floor cue needs (empty-room frames before the shirt first
+appears); without a plate, or when the disk is mostly empty (the head out of view
+or hidden), it is absent and the head follows the blend as before.
+"""
 
 from __future__ import annotations
 
@@ -35,7 +49,16 @@ def find_head(
     cut: float = 0.45,
     min_fill: float = 0.5,
 ) -> HeadPoint | None:
-    """The centre of the head-sized disk of foreground nearest the predicted head."""
+    """The centre of the head-sized disk of foreground nearest the predicted head.
+
+    ``fg`` is the plate-resolution foreground mask, ``head`` and ``neck`` the
+    predicted head and neck joints in full-resolution pixels, ``radius`` the head's
+    projected radius there (pixels). Only pixels beyond ``cut`` of the way from the
+    neck to the head count (the shirt's collar and the throat are excluded); the
+    disk's centre is searched within ``reach`` radii of the prediction, then set to
+    the centroid of the foreground inside it (two mean-shift steps). None when the
+    best disk is less than ``min_fill`` foreground.
+    """
     s = float(downscale)
     h, w = fg.shape
     r = radius / s

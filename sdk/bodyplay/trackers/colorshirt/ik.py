@@ -1,4 +1,20 @@
-"""Fitting the skeleton to patch centroids: 6-DOF global pose and upper-body IK."""
+"""Fitting the skeleton to patch centroids: 6-DOF global pose and upper-body IK.
+
+Steps 2 and 4 of the paper move the skeleton so that the rendered patch centroids
+land on the classified ones in every camera. Rendering inside the optimizer would
+be slow, so each visible patch becomes a *patch anchor*: the 3-D point (found by
+back-projecting the rendered patch centroid at its mean depth) rigidly attached to
+the bone the patch covers. Moving the skeleton moves the anchors; their pinhole
+projections are compared with the image centroids.
+
+The objective is the paper's ``sum ||c(q) - c||^2_Sigma_c + ||q - q_b||^2_Sigma_b +
+||q - q_h||^2_Sigma_p``, with diagonal covariances trained on synthetic ground truth
+(:class:`PriorModel`). The pelvis orientation is optimized as a small rotation
+applied to the starting orientation, so rotation vectors never meet their
+singularity at 180 degrees. Forward kinematics and projection of a whole batch of
+perturbed poses run in one numba call, which gives the finite-difference Jacobian
+for MINPACK's Levenberg-Marquardt in one call.
+"""
 
 from __future__ import annotations
 
@@ -121,7 +137,13 @@ def _project_anchors(  # pragma: no cover - compiled
 
 @dataclass(frozen=True, eq=False)
 class PatchAnchors:
-    """Points attached to bones whose projections should hit observed centroids."""
+    """Points attached to bones whose projections should hit observed centroids.
+
+    ``node`` (A,) skeleton node of each anchor, ``local`` (A, 3) its position in that
+    node's frame, ``camera`` (A,) camera index, ``target`` (A, 2) observed pixel
+    centroid, ``sigma`` (A,) pixel standard deviation of the constraint,
+    ``patch`` (A,) patch id (for reporting).
+    """
 
     node: NDArray[np.int64]
     local: NDArray[np.float64]
@@ -136,7 +158,12 @@ class PatchAnchors:
 
 @dataclass(frozen=True)
 class PriorModel:
-    """Diagonal covariances of the IK energy, trained on synthetic ground truth."""
+    """Diagonal covariances of the IK energy, trained on synthetic ground truth.
+
+    ``centroid`` is the std of a centroid constraint as a fraction of the shirt's
+    size in the image; ``blend`` and ``previous`` are per-free-DOF stds (metres for
+    the root, radians for rotations) of ``q - q_b`` and ``q - q_h``.
+    """
 
     centroid: float
     blend: tuple[float, ...]
@@ -176,7 +203,15 @@ class PriorModel:
         floor: float = 0.01,
         previous: NDArray[np.float64] | None = None,
     ) -> PriorModel:
-        """Train the covariances as the paper does, from a ground-truth sequence."""
+        """Train the covariances as the paper does, from a ground-truth sequence.
+
+        ``truth`` and ``blended`` are (T, pose_dim) true and database-blended poses
+        (rows of NaN separate sequences), ``centroid_errors`` the centroid residuals at
+        the true pose (relative units). Orientation differences are measured as the
+        rotation between the two pelvis orientations. ``previous`` (T, pose_dim), the
+        tracker's estimates, makes the previous-pose term ``truth(t) - previous(t-1)``
+        (default: the truth itself, the paper's literal recipe).
+        """
         dofs = ik_dofs()
 
         def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -212,7 +247,13 @@ def default_prior_model() -> PriorModel:
 
 @dataclass(frozen=True)
 class RootPrior:
-    """A Gaussian prior on one linear coordinate of the root position."""
+    """A Gaussian prior on one linear coordinate of the root position.
+
+    ``direction . root`` should be near ``target`` with standard deviation ``std``
+    (metres). With ``direction`` a camera's optical axis in world coordinates and
+    ``target`` the root's depth minus the camera's ``t[2]``, it pins the root's depth
+    in that camera, which one camera alone cannot tell from the body's size.
+    """
 
     direction: tuple[float, float, float]
     target: float
@@ -278,7 +319,12 @@ class KinematicSolver:
 
     # ---- solving -----------------------------------------------------------------
     def _solve(self, pb: _Problem, max_nfev: int, limits: bool) -> NDArray[np.float64]:
-        """Levenberg-Marquardt on anchors + priors (+ joint limits as steep penalties)."""
+        """Levenberg-Marquardt on anchors + priors (+ joint limits as steep penalties).
+
+        MINPACK's LM is several times faster than the bounded trust-region solver
+        for these small problems; limits become residuals ``(q - hi) / 0.02`` beyond
+        the bounds and the result is clamped to them.
+        """
         free = pb.free
         a = pb.anchors
         inv_sigma = 1.0 / a.sigma
@@ -368,7 +414,14 @@ class KinematicSolver:
     def solve_global(self, q: NDArray[np.float64], anchors: PatchAnchors,
                      max_nfev: int = 10, root_priors: tuple[RootPrior, ...] = (),
                      position_std: float | None = None) -> NDArray[np.float64]:
-        """6-DOF fit: root position and pelvis orientation; the articulation is kept."""
+        """6-DOF fit: root position and pelvis orientation; the articulation is kept.
+
+        The blend's arms may be wrong, and a rigid fit would then twist the whole
+        body to shrink their error, so only torso anchors are used when at least
+        three are visible. A prior holds the fit near ``q``: 0.3 rad on the
+        orientation, ``position_std`` metres on the root (None: 1 / 3.3, about
+        0.3 m; ``inf``: none, the anchors' layout alone places the root).
+        """
         torso = np.isin(anchors.node, self._torso_nodes)
         if int(torso.sum()) >= 3:
             anchors = PatchAnchors(*(getattr(anchors, f)[torso] for f in
@@ -393,7 +446,12 @@ class KinematicSolver:
         max_nfev: int = 10,
         root_priors: tuple[RootPrior, ...] = (),
     ) -> NDArray[np.float64]:
-        """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``."""
+        """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
+
+        Starts from the blend. Without a prior model only a
+        weak regularizer towards the blend remains (the ablation of the paper's
+        comparison against its predecessor).
+        """
         qd, R0 = self._with_delta_root(q_blend)
         free = self._free_ik
 

@@ -1,4 +1,18 @@
-"""Finding the shirt: chrominance-histogram uniformity search (paper §4)."""
+"""Finding the shirt: chrominance-histogram uniformity search (paper §4).
+
+The shirt is far more colorful than most of a scene, so its local chrominance
+histogram is nearly uniform. For every window of side ``s`` centred on a grid of
+stride 6 px, at six scales, the 100-bin histogram of ``(r, g) / (r + g + b)``
+(10 x 10 bins) gives the uniformity ``u = sum_i min(h_i, tau)`` with ``tau = 0.1``.
+The shirt's centre and scale are the average of all windows weighted by
+``exp(-(u - u_max)^2 / (u_max / 10)^2)``, which is steadier than the arg-max.
+
+Histograms are normalized by the window area, so pixels excluded by the
+background mask or too dark to have a chrominance count as nothing and windows
+much larger than the shirt lose uniformity. Everything runs in one numba pass:
+per-cell histograms on the stride grid, their integral, and the window sums.
+:class:`BackgroundMask` wraps OpenCV's MOG2 subtractor to provide that mask.
+"""
 
 from __future__ import annotations
 
@@ -19,7 +33,12 @@ NUM_BINS = BINS_PER_AXIS * BINS_PER_AXIS
 
 @dataclass(frozen=True)
 class LocateOptions:
-    """Histogram-search settings (defaults are the paper's)."""
+    """Histogram-search settings (defaults are the paper's).
+
+    ``scales`` are window sides as fractions of the image height; ``min_brightness``
+    is the least ``r + g + b`` whose chrominance is trusted; ``min_uniformity`` is
+    the least ``u_max`` reported as a shirt.
+    """
 
     tau: float = 0.1
     stride: int = 6
@@ -149,7 +168,11 @@ class ShirtLocator:
         self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
         frame_height: int | None = None,
     ) -> list[tuple[int, NDArray[np.float32]]]:
-        """Per scale: (window side in cells, u over window top-left cells)."""
+        """Per scale: (window side in cells, u over window top-left cells).
+
+        Window sides are fractions of ``frame_height`` (default the image's own
+        height; a part of a frame passes the whole frame's).
+        """
         o = self.options
         bins = chroma_bins(image, mask, o.min_brightness)
         integ = _cell_integral(bins, o.stride)
@@ -179,7 +202,13 @@ class ShirtLocator:
         self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
         region: tuple[int, int, int, int] | None = None,
     ) -> ShirtLocation:
-        """Centre and scale of the most colorful region (the weighted average of §4)."""
+        """Centre and scale of the most colorful region (the weighted average of §4).
+
+        ``region`` ``(x0, y0, x1, y1)`` (image pixels; a tracker passes the
+        neighbourhood of the shirt's last position) limits the search to the
+        windows inside it, on the same cell grid as the whole-frame search; when
+        no shirt is found there the whole frame is searched.
+        """
         if region is not None:
             st = self.options.stride
             h, w = image.shape[:2]
@@ -259,7 +288,12 @@ class ShirtLocator:
 
 
 class BackgroundMask:
-    """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution."""
+    """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution.
+
+    ``warmup`` frames are needed before the mask is trusted; :meth:`apply` returns
+    None until then (callers then use no mask), and also when the mask is almost
+    empty, as happens when the person stands still for long.
+    """
 
     def __init__(
         self, downscale: int = 2, history: int = 500, warmup: int = 10, min_fraction: float = 0.01
@@ -303,7 +337,10 @@ class BackgroundMask:
 
     def apply(self, image: NDArray[np.uint8], small: NDArray[np.uint8] | None = None
               ) -> NDArray[np.bool_] | None:
-        """Update the model with an RGB frame; the dilated foreground mask or None."""
+        """Update the model with an RGB frame; the dilated foreground mask or None.
+
+        ``small`` is the frame already reduced by :meth:`reduce`, if the caller has it.
+        """
         h, w = image.shape[:2]
         if small is None:
             small = self.reduce(image)

@@ -17,7 +17,63 @@ __all__ = ["ColorShirtOptions", "options_with_overrides"]
 
 @dataclass(frozen=True)
 class ColorShirtOptions:
-    """Everything that tunes the color-shirt tracker (docs/colorshirt.md, "Options")."""
+    """Everything that tunes the color-shirt tracker; defaults follow the paper.
+
+    One line per option here; what each does and why it exists in detail, with
+    the figures that chose the defaults, in docs/colorshirt.md ("Options").
+
+    * ``adaptive_white_balance``: refit ``W`` every frame, keep reference
+      illuminations (paper steps 1 and 5); ``pose_prior``: pose-assisted
+      reclassification and IK priors (steps 3 and 4). Both off: the paper's baseline.
+    * ``database_size`` poses (paper: 80,000), cached in ``database_cache``.
+    * ``threshold``/``prior_threshold``: the classifier's ``T`` (3 and 5);
+      ``prior_strength``: the 6 of ``C = 6 / s``; ``prior_gain_power``: ``C`` grows
+      with the white balance's gain to this power (a noisier image); ``retry_fraction``:
+      the 40% test; ``reference_distance``: when a new reference ``W`` is stored;
+      ``wb_smoothing``: weight of the previous ``W``.
+    * ``background_subtraction``: MOG2 foreground mask for search and classification.
+    * ``work_size``/``crop_margin``: the working crop; ``blob_fraction``,
+      ``blob_attach``, ``sleeve_attach``: which classified blobs are kept.
+    * ``min_colors``, ``min_color_fraction``, ``max_mismatch``: when a camera sees
+      the shirt; ``min_patch_fraction``: the least share of a patch to anchor the IK.
+    * ``white_std_scale``: the white patches' constraints count with this many times
+      the others' std (white is what bright background shares).
+    * ``measurement_noise``: RGB std of camera noise that a strong ``W`` amplifies;
+      the classifier widens every color's Gaussian by it.
+    * ``max_speed`` (m/s): a fit further than ``0.25 m + max_speed * dt`` from the
+      last reported pose is reported lost; ``gate_time``/``gate_speed``: how long and
+      how widely the last reported shirt's box gates classification and search.
+    * ``initial_white_balance``: a 3x3 ``W`` from scribbles (None = automatic);
+      ``color_model``/``prior_model``: JSON files replacing the shipped models.
+    * ``body``: a preset of ``BODY_SHAPES`` or ``"auto"`` (chosen over
+      ``body_selection_frames`` frames, then the arm lengths ``arm_scales`` over
+      ``arm_selection_frames``, the shortest within ``arm_tolerance`` of the best);
+      ``body_choice_max_stagger`` (m): with one camera, a frame judges the presets
+      only when the feet stand no further apart in depth.
+    * ``floor_cue``: the root's depth from where the feet meet the floor
+      (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
+      ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
+      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
+      ``stance_cue``: the filter also reads the root's height (off by default).
+    * ``head_cue``: the head above the collar anchors the head joint
+      (``head_offset``, ``head_std``, m).
+    * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
+      chamfer (``arm_tau``), blended by ``arm_temperature``, ``arm_shortlist`` per
+      arm to the pairwise stage (:mod:`.armsearch`); ``arm_search_one_camera``: with
+      one camera too, each candidate paying ``arm_depth_pull`` for leaving the
+      blend's depth.
+    * ``plate_mask``: classify only pixels unlike the learned background plate (it
+      replaces MOG2's mask with at most ``plate_mask_alone_cameras`` cameras);
+      ``room_plate``: learn the room from what the player uncovers (silhouette grown
+      by ``room_margin``), so a player may start in view.
+    * ``good_residual``: a fit reprojecting within this many shirt sizes is *good*
+      (teaches the room plate, judges the body, overrides the speed gate).
+    * ``start_candidates``: shirt-like regions per camera tried when nothing is
+      tracked, a start's root within ``start_root_band`` of the standing pelvis
+      height; ``start_agreement_frames``: how long a one-camera start waits for
+      another camera to agree before it is reported.
+    * ``locate``: the histogram search (:class:`.locate.LocateOptions`).
+    """
 
     adaptive_white_balance: bool = True
     pose_prior: bool = True

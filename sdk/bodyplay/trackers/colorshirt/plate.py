@@ -1,4 +1,22 @@
-"""The room behind the player, learned from what the player uncovers (beyond the paper)."""
+"""The room behind the player, learned from what the player uncovers (beyond the paper).
+
+The paper masks the classification with a background model of the empty room. A
+player who starts in view never shows the empty room, and an adaptive subtractor
+(MOG2) absorbs clutter and a player standing still alike. :class:`RoomPlate` learns
+the room instead from where the player is *not*: every pixel outside the dilated
+silhouette of the pose just reported (rendered from the body mesh) that stayed
+still over the last frames follows a per-pixel running mean, and after a few such
+frames the pixel is *known*. A known pixel that matches the plate is room; every
+other pixel (unknown, or different from the plate) may be the player.
+
+So clutter in shirt colours beside the player (a poster, clothes on a rail, fruit)
+leaves the classification as soon as the player has been seen next to it, and the
+pixels the player covers are never learned, however long they stand still. Frames
+before the first pose (an empty-room start) teach every still pixel of a camera
+that sees no shirt, but a region that may be a player standing still (``ambiguous``)
+only once it has changed. A change of light scales the plate by one gain per channel,
+measured on known pixels away from the player.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +28,18 @@ __all__ = ["RoomPlate"]
 
 
 class RoomPlate:
-    """One camera's plate of the room at reduced resolution (docs/colorshirt.md, "Design notes")."""
+    """One camera's plate of the room at reduced resolution (see the module docstring).
+
+    Per frame: :meth:`start` with the reduced image, :meth:`foreground` for the mask,
+    then :meth:`learn` with the player's silhouette (or None with ``everywhere``
+    before the first pose). ``still`` is the summed R + G + B change from the last
+    frame under which a pixel counts as still; ``still_frames`` how many frames in a
+    row it must be still to be learned; ``known_frames`` how many learned frames make
+    it known; ``rate`` the slowest weight of a new frame in a pixel's running mean;
+    ``threshold`` the summed R + G + B difference from the plate that counts as
+    foreground in a room at least as bright as ``contrast_level`` (dimmer rooms
+    shrink it in proportion, down to 30%).
+    """
 
     def __init__(self, still: float = 30.0, still_frames: int = 3, known_frames: int = 4,
                  rate: float = 0.05, threshold: float = 45.0,
@@ -99,7 +128,12 @@ class RoomPlate:
               ambiguous: NDArray[np.bool_] | None = None) -> None:
         """Learn this frame's still pixels outside ``person`` (plate resolution; None:
         no pose this frame, so nothing is learned unless ``everywhere``, as before the
-        first pose in a camera that sees no shirt)."""
+        first pose in a camera that sees no shirt).
+
+        ``ambiguous``: pixels that may be a player standing still (a region that
+        fits a shirt but never moved); they are learned only once the plate has
+        seen them change: a still player is never learned as the room.
+        """
         f, prev = self._small, self._prev
         if f is None or prev is None or self._mean is None:
             return

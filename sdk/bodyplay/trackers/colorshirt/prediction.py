@@ -1,4 +1,13 @@
-"""Predicted id maps: the generic mesh rendered in a camera's crop, and what follows."""
+"""Predicted id maps: the generic mesh rendered in a camera's crop, and what follows.
+
+The tracker renders its current pose estimate in each camera's working crop to get
+(a) patch anchors for the 6-DOF and IK fits (each visible patch's centroid, back-
+projected at its mean depth and attached to the patch's bone), (b) the pose prior of
+the refined classification (distance from each pixel to the nearest predicted
+pixel of each color, paper step 3) together with which of a color's two patches a
+pixel belongs to, and (c) the id map of the final pose from which the white
+balance is refitted (step 5).
+"""
 
 from __future__ import annotations
 
@@ -141,7 +150,12 @@ class PoseRenderer:
 
     def prior_penalty(self, rendered: RenderedPose, strength: float, min_pixels: int
                       ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:
-        """The step-3 prior ``C d(r_b, k)`` (H, W, 10) and the nearer patch of each color."""
+        """The step-3 prior ``C d(r_b, k)`` (H, W, 10) and the nearer patch of each color.
+
+        Colors with no predicted pixel get a prohibitive penalty: the pose rules them
+        out. The second array (H, W, 10) holds, per pixel and color, the patch id
+        (of that color's two) nearest to the pixel, 0 when neither is predicted.
+        """
         h, w = rendered.patches.shape
         pen = np.full((h, w, NUM_COLORS), _FAR, np.float32)
         owner = np.zeros((h, w, NUM_COLORS), np.uint8)

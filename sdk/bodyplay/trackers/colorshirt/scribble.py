@@ -1,4 +1,12 @@
-"""A small pygame window for the paper's scribble initialization of the white balance."""
+"""A small pygame window for the paper's scribble initialization of the white balance.
+
+Shows one camera frame; keys ``0``-``9`` pick a shirt color (the legend along the
+bottom shows which), dragging the mouse scribbles that color's label onto the
+patch under the cursor, Backspace clears, Enter (or closing the window) finishes.
+The scribbles give ``W`` through
+:func:`bodyplay.trackers.colorshirt.whitebalance.white_balance_from_scribbles`.
+Runs windowed only; tests import it but never open it.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,19 @@
-"""The color-shirt tracker: the paper's per-frame pipeline behind the Tracker protocol."""
+"""The color-shirt tracker: the paper's per-frame pipeline behind the Tracker protocol.
+
+Per frame set, for every camera (:mod:`.camerawork`): background mask (MOG2) ->
+histogram search for the shirt (:mod:`.locate`) -> crop -> white balance and
+Mahalanobis classification (T = 3, background-masked) -> if under 40% of the
+foreground is classified, retry every reference illumination -> 40x40 query map ->
+database lookup. Then, over all cameras: blend of the ten nearest poses of the
+best-matching camera, placed by a 6-DOF fit of its patch anchors -> pose-assisted
+reclassification (``C = 6 / s``, T = 5) -> IK on the patch centroids with priors
+towards the blend and the previous pose -> refit of ``W`` from the final pose's id
+map, stored as a new reference illumination when it is far from every stored one.
+
+When no camera sees a shirt (no colorful region, too few shirt colors, or no
+database pose resembling the classification) the result is :func:`lost_result`:
+the tracker never invents a pose.
+"""
 
 from __future__ import annotations
 
@@ -103,7 +118,10 @@ class _Fit:
 
 
 class ColorShirtTracker:
-    """Upper-body tracker for the color shirt (docs/colorshirt.md, "Design notes")."""
+    """Upper-body tracker for the color shirt (see the module docstring).
+
+    Create it with :func:`bodyplay.trackers.colorshirt.create_colorshirt_tracker`.
+    """
 
     name = "colorshirt"
 
@@ -315,7 +333,33 @@ class ColorShirtTracker:
         combination of one candidate region (or none) per camera, the one whose
         fit with the body in use counts the most cameras, then fits best, among
         those where MOG2 saw each region move, plausible (:meth:`_plausible`) and
-        upright (root within ``start_root_band`` of the standing pelvis height)."""
+        upright (root within ``start_root_band`` of the standing pelvis height).
+
+        With the player in view from the first frame there is no background
+        mask: the most colorful region can be a poster or a fruit bowl, which
+        neither moves nor fits an upright torso that both cameras see. None
+        qualifies (the first frame: no motion seen yet): no pose, the next frame
+        tries again, and a camera whose candidates were all rejected lets the
+        room plate learn the frame as it does in an empty room, except a region
+        whose fit qualifies but which never moved (``_held``): a player standing
+        still looks just like that, and learning them as the empty room masked
+        them out for good (the ninja's colour-shirt game with one camera: the
+        player waited still for 6 frames, then was never found).
+
+        A camera that alone started the track (several cameras, none agreeing
+        yet) gives its tracked view, and every combination must hold it; every
+        other camera gives the region a track would find there (near where that
+        pose puts the shirt, else in the whole frame with the motion mask) and
+        its whole frame's candidates. Returns the views and whether they start
+        the track afresh (a hypothesis chose them, not the tracked view alone).
+
+        One camera also offers the region a track would find (the whole frame
+        searched with the motion and room masks: what moved, without the still
+        clutter around it), and its hypotheses are ranked by how much of the
+        shirt's layout their fit explains (patches anchored, at least
+        :data:`_START_PATCHES`), then by residual: in a room full of shirt
+        colours the unmasked regions merge the player with clutter behind them.
+        """
         o = self.options
         lone = None if self._alone is None else self._alone[0]
         cands = [self._work.views(i, self._cams[i], fr.image, frames.t, confirmed,
@@ -364,7 +408,20 @@ class ColorShirtTracker:
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
-        """Start-up: fit every candidate preset, keep the one reprojecting best."""
+        """Start-up: fit every candidate preset, keep the one reprojecting best.
+
+        Each candidate works on its own copies of the views (the pose-assisted
+        reclassification rewrites them) with its own previous pose. Until the choice
+        is made the frame's result is the fit of the candidate with the lowest mean
+        residual so far (the reference body's before any frame could judge), and on
+        the deciding frame the chosen body's. Reporting the reference body until the
+        choice cost a third of a second of poor poses: a body too broad for the
+        player fits the shirt's outline by turning.
+
+        With one camera the presets are judged only on frames where the feet tell
+        the distance (``body_choice_max_stagger``), without the arm search (its arms
+        fit every size about equally); the reported pose is then refitted with it.
+        """
         sel = self._selection
         assert sel is not None
         fits: dict[str, tuple[_Fit, dict[str, object]]] = {}
@@ -465,7 +522,13 @@ class ColorShirtTracker:
 
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
                   search_one: bool = True) -> _Fit:
-        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame."""
+        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
+
+        ``search_one``: whether a frame that one camera sees gets the arm search
+        (``arm_search_one_camera``). The start-up's candidates are judged without
+        it: its arms fit every preset's size about equally, and the choice got
+        noisier.
+        """
         o = self.options
         lead = min(views, key=lambda v: v.distance)
         q_b = self.placement.place(lead, [v for v in views if v is not lead])
@@ -520,7 +583,21 @@ class ColorShirtTracker:
     def _place_root(self, q: NDArray[np.float64], anchors: PatchAnchors
                     ) -> tuple[NDArray[np.float64], tuple[RootPrior, ...]]:
         """6-DOF fit of the placed blend; with one camera, the root moved along its ray
-        to the depth filter's estimate, and the IK's prior on the root's depth."""
+        to the depth filter's estimate, and the IK's prior on the root's depth.
+
+        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`),
+        reads the depth at which the layout of the torso's patch anchors projects
+        as large as the shirt looks: the filter's shirt reading
+        (``diagnostics["shirt_depth"]``, scaled to the reference body's size).
+        The IK's prior holds the root at the filter's depth, with
+        ``depth_pin_std`` once the feet told it, else with the filter's std; the
+        blend is fitted again at that depth (at another depth the fit leans the
+        torso to make up for a wrong size). Elsewhere the fit is held at 0.3 m.
+        A rig of several cameras keeps the code before these rules exactly (its
+        lone views: the IK from the fit's own depth with the filter's as a prior;
+        the hold 3.3 per metre, not 1 / 0.3: a 1% change of that weight moved
+        single two-camera clips by up to 11 cm; docs/colorshirt.md).
+        """
         placed = q
         index = self._lone
         rig1 = len(self.cameras) == 1  # a lone view in a rig of several: as two cameras

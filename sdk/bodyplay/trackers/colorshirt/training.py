@@ -1,4 +1,13 @@
-"""Training the IK priors on synthetic ground truth, as the paper trains on Vicon data."""
+"""Training the IK priors on synthetic ground truth, as the paper trains on Vicon data.
+
+The paper's IK energy has three covariances, ``Sigma_c`` (centroid constraints),
+``Sigma_b`` (distance to the database blend) and ``Sigma_p`` (distance to the
+previous pose), "trained off-line on ground-truth data: for each term, replace q
+by the ground-truth pose and compute the covariance of the term over the
+sequence". Here the ground truth comes from the synthetic camera rendering motion
+clips (by default the built-in CMU clips, which the database also samples; keep
+evaluation clips apart). The result is a :class:`PriorModel` (diagonal).
+"""
 
 from __future__ import annotations
 
@@ -20,7 +29,12 @@ def collect_training_data(
     lighting: str = "steady",
     seed: int = 0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Track synthetic renders of ``clips``: truth poses, blends, estimates, centroid errors."""
+    """Track synthetic renders of ``clips``: truth poses, blends, estimates, centroid errors.
+
+    Centroid errors are the distances between the truth pose's rendered patch
+    centroids and the classified ones, relative to the shirt's size in the crop.
+    Rows of NaN separate the clips.
+    """
     from bodyplay.motion import load_clip
     from bodyplay.synth.camera import SyntheticCamera
     from bodyplay.synth.options import make_synthetic_camera_options
@@ -65,6 +79,12 @@ def collect_training_data(
 
 
 def train_prior_model(**kwargs: object) -> PriorModel:
-    """:func:`collect_training_data` then :meth:`PriorModel.fit`."""
+    """:func:`collect_training_data` then :meth:`PriorModel.fit`.
+
+    The previous-pose term is trained on ``truth(t) - estimate(t - 1)``: at run time
+    ``q_h`` is the tracker's own previous estimate, not the truth, so its
+    covariance must include the tracking error (trained on truth differences alone,
+    the prior holds on to past mistakes).
+    """
     truth, blend, est, cerr = collect_training_data(**kwargs)  # type: ignore[arg-type]
     return PriorModel.fit(truth, blend, cerr, previous=est)

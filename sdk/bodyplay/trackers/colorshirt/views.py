@@ -104,7 +104,31 @@ class CameraView:
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
               attach_fraction: float = 0.1,
               sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
-    """Keep the shirt-like blobs of a classification."""
+    """Keep the shirt-like blobs of a classification.
+
+    Speckle is opened away. Blobs are formed from the colored (non-white)
+    pixels, grown a little so a patch touches its neighbours. The largest blob
+    holding at least two shirt colors is the shirt; other blobs are kept when
+    they hold two colors and are either not far smaller than it (``blob_fraction``
+    of its area) or within ``attach_fraction`` of the shirt's extent of it: an arm
+    held beside the body is separated from the torso by its shoulder cap, and
+    where that cap is white (which is not a blob color) the arm is a small blob of
+    its own that must not be dropped; such a blob in two sleeve colors is also kept
+    wherever white joins it to the shirt (a hanging arm whose cap is wider than
+    the reach: at 12-15% of the shirt's area it came and went from frame to frame,
+    and the arm with it). Next to the shirt a one-colored blob is kept
+    only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
+    colors it is more likely the face or a hand than a piece of shirt. A blob in
+    two sleeve colors (each at least 3% of it and 3 px) that lies over the shirt
+    (above its top, within its columns) is also kept within ``sleeve_attach`` (a
+    larger fraction of the shirt's extent, if given) of its raised upper arms
+    (the shirt's sleeve-colored pixels above the top of its torso colors): both
+    forearms raised together over the head form one such blob, which the head
+    separates from the shirt by a little more than ``attach_fraction``, and they
+    hang from the elbows; with no upper arm raised there are no forearms over the
+    head (sleeve-colored fruit on a shelf above a shoulder). White, which walls
+    and mortar also match, is kept only next to the kept blobs.
+    """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
     core = cv2.morphologyEx(((ids > 0) & (ids != WHITE_ID)).astype(np.uint8), cv2.MORPH_OPEN,
@@ -202,7 +226,11 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
                     fg: NDArray[np.bool_], model: ColorModel, noise_model: ColorModel,
                     o: ColorShirtOptions) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
     """Step 1 for one camera: choose ``W`` (automatic, kept, or a stored reference
-    illumination after a light change) and classify the crop; ``st`` remembers ``W``."""
+    illumination after a light change) and classify the crop; ``st`` remembers ``W``.
+
+    ``fg`` is the paper's "supposedly foreground" (the located window, masked);
+    ``noise_model`` is ``model`` widened for the noise ``W`` amplifies (or ``model``).
+    """
     ys, xs = np.nonzero(fg)
     if len(xs):  # the automatic search looks at the located window, mostly shirt
         sub = (slice(ys.min(), ys.max() + 1), slice(xs.min(), xs.max() + 1))
@@ -249,6 +277,13 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
 
 def prior_penalty_slope(strength: float, shirt_scale: float, W: NDArray[np.float64],
                         gain_power: float) -> float:
-    """``C`` of the pose-assisted reclassification's penalty ``C d`` (per crop pixel)."""
+    """``C`` of the pose-assisted reclassification's penalty ``C d`` (per crop pixel).
+
+    The paper's ``C = strength / s`` (``s`` the shirt's size in the crop), times
+    ``g ** gain_power`` with ``g = max(1, |det W| ** (1/3))`` the overall gain the
+    white balance applies to the image. A strongly amplified image (``g`` about 1.7
+    in the ``dim`` preset, 1.03-1.1 under steady light) carries amplified sensor
+    noise, so its colors say less and the rendered pose should say more.
+    """
     gain = max(1.0, abs(float(np.linalg.det(W))) ** (1.0 / 3.0))
     return strength / max(shirt_scale, 1.0) * gain**gain_power
