@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import importlib.util
 import os
+import sys
+from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 from hypothesis import settings
@@ -108,3 +112,30 @@ def silhouette_tree(tmp_path_factory):  # type: ignore[no-untyped-def]
     opts = HierarchyOptions(clips=("131_01",), yaw_offsets_deg=(0.0,), random_share=0.05,
                             bodies=("m",), thresholds=(0.06, 0.04, 0.03), max_poses=400)
     return load_or_build_tree(opts, tmp_path_factory.mktemp("silhouette_cache"))
+
+
+def load_script(relative: str, with_neighbours: bool = False) -> ModuleType:
+    """Import a script of the repository (``benchmarks/x.py``, ``tools/x.py``) that is
+    not in a package, under its file name, so that its functions can be specified;
+    ``with_neighbours`` lets it import the scripts beside it while it loads."""
+    path = REPO / relative
+    folder = str(path.parent)
+    if with_neighbours:
+        sys.path.insert(0, folder)
+    try:
+        spec = importlib.util.spec_from_file_location(path.stem, path)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = module
+        spec.loader.exec_module(module)
+    finally:
+        if with_neighbours:
+            sys.path.remove(folder)
+    return module
+
+
+@pytest.fixture(scope="session")
+def script_loader() -> Callable[..., ModuleType]:
+    """:func:`load_script`, for tests of the scripts in benchmarks/ and tools/."""
+    return load_script
+

@@ -2,22 +2,15 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
+from collections.abc import Callable
 from types import ModuleType
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
-
 
 @pytest.fixture(scope="module")
-def counter() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("code_lines", REPO / "tools" / "code_lines.py")
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def counter(script_loader: Callable[..., ModuleType]) -> ModuleType:
+    return script_loader("tools/code_lines.py")
 
 
 def test_code_lines_skips_docstrings_comments_and_blank_lines(counter: ModuleType) -> None:

@@ -2,26 +2,17 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
-
 
 @pytest.fixture(scope="module")
-def decompose() -> ModuleType:
-    spec = importlib.util.spec_from_file_location(
-        "colorshirt_decompose", REPO / "benchmarks" / "colorshirt_decompose.py")
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+def decompose(script_loader: Callable[..., ModuleType]) -> ModuleType:
+    return script_loader("benchmarks/colorshirt_decompose.py")
 
 
 def _row(errors: list[float], cameras: list[int], clip: str = "c") -> dict[str, object]:

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
+from collections.abc import Callable
 from types import ModuleType
 
 import numpy as np
@@ -13,22 +11,10 @@ import pytest
 from bodyplay.body import Skeleton
 from bodyplay.body.joints import JOINT_INDEX
 
-REPO = Path(__file__).resolve().parents[2]
-
 
 @pytest.fixture(scope="module")
-def offsets() -> ModuleType:
-    sys.path.insert(0, str(REPO / "benchmarks"))  # the script imports its neighbours
-    try:
-        spec = importlib.util.spec_from_file_location(
-            "colorshirt_offsets", REPO / "benchmarks" / "colorshirt_offsets.py")
-        assert spec is not None and spec.loader is not None
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
-    finally:
-        sys.path.remove(str(REPO / "benchmarks"))
-    return mod
+def offsets(script_loader: Callable[..., ModuleType]) -> ModuleType:
+    return script_loader("benchmarks/colorshirt_offsets.py", with_neighbours=True)
 
 
 def _truth(yaw: float = 0.0) -> np.ndarray:
