@@ -317,3 +317,27 @@ def test_separate_limbs_moves_a_sunken_elbow_out_of_the_torso(jacks: np.ndarray)
             assert inside == 0.0
         else:
             assert inside > 0.05
+
+
+def test_resolve_union_frees_a_particle_pinched_between_arm_and_torso() -> None:
+    # the case of the robe on the jumping jacks: a particle 0.3 mm inside the torso
+    # and on the upper arm's surface, where the arm presses on the torso; each
+    # capsule's exit point lies inside the other
+    a = np.array([[-0.0547, 0.9296, 0.0053], [-0.1806, 1.4150, -0.0334],
+                  [-0.2434, 1.1363, -0.0277]])
+    b = np.array([[-0.0638, 1.3523, -0.0238], [-0.2434, 1.1363, -0.0277],
+                  [-0.2926, 0.8829, -0.0291]])
+    radius = np.array([0.12056, 0.06135, 0.05148])
+    x = np.array([[-0.17650, 1.15859, -0.03928]])
+    # put it exactly on the arm's surface and inside the torso
+    t = float(np.clip((x[0] - a[1]) @ (b[1] - a[1]) / ((b[1] - a[1]) @ (b[1] - a[1])), 0, 1))
+    axis = a[1] + t * (b[1] - a[1])
+    x[0] = axis + (x[0] - axis) / np.linalg.norm(x[0] - axis) * (radius[1] - 1e-5)
+    before = kernels.penetration(x, a, b, radius)[0]
+    assert before > 1e-4
+    cand = np.array([[0, 1, 2, 0, 0, 0]])
+    ncand = np.array([3])
+    start = x.copy()
+    kernels.resolve_union(x, np.ones(1), a, b, radius, cand, ncand)
+    assert kernels.penetration(x, a, b, radius)[0] < 1e-5
+    assert np.linalg.norm(x - start) < 0.05  # out along the crease, not through the arm

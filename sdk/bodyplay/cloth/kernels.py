@@ -364,13 +364,20 @@ def _depth_and_exit(p, a, b, r, out):  # pragma: no cover
     return r - d
 
 
+_CREASE = 1e-3  # m: a capsule whose surface is this near counts as touching
+_MAX_EXIT = 0.05  # m: the longest move out of a crease
+
+
 @njit(cache=True)
 def resolve_union(x, w, a, b, radius, cand, ncand):  # pragma: no cover
     """Move free particles left inside overlapping capsules out of all of them.
 
     For a particle inside one or more candidate capsules, each capsule's exit point is
     tried; the nearest one outside every candidate wins (else the one least deep), up
-    to three times. Only positions change (a projection, no velocity).
+    to three times. A particle still inside (pinched in the crease where an arm
+    presses on the torso: each capsule's exit lies inside the other) leaves along the
+    shortest of the rays out of each capsule and out of their crease
+    (:func:`_union_exit`). Only positions change (a projection, no velocity).
     """
     trial = np.empty(3)
     best = np.empty(3)
@@ -402,3 +409,82 @@ def resolve_union(x, w, a, b, radius, cand, ncand):  # pragma: no cover
                     best_cost = cost
                     best[0], best[1], best[2] = trial[0], trial[1], trial[2]
             x[i, 0], x[i, 1], x[i, 2] = best[0], best[1], best[2]
+        if _union_depth(x[i], a, b, radius, cand[i], ncand[i]) > 1e-6:
+            _union_exit(x[i], a, b, radius, cand[i], ncand[i])
+
+
+@njit(cache=True)
+def _union_depth(p, a, b, radius, cand, n):  # pragma: no cover
+    """Depth of ``p`` inside the union of the capsules ``cand[:n]`` (<= 0 outside)."""
+    depth = -1e30
+    for m in range(n):
+        c = cand[m]
+        depth = max(depth, radius[c] - _segment_distance(p, a[c], b[c]))
+    return depth
+
+
+@njit(cache=True)
+def _union_exit(p, a, b, radius, cand, n):  # pragma: no cover
+    """Move ``p`` out of the union of the capsules ``cand[:n]`` along the shortest ray.
+
+    The rays tried are the outward normals at ``p`` of the capsules it is inside or
+    on (within ``_CREASE``), and the sums of two of them and of all: where an arm
+    presses on the torso each normal points into the other capsule, and their sum
+    runs out along the crease. Along a ray the point steps by the union's depth until
+    it is outside (the distance to a capsule changes by at most the step). The
+    shortest way out within ``_MAX_EXIT`` wins; ``p`` is left unchanged if none is.
+    """
+    normals = np.zeros((n, 3))
+    near = np.zeros(n, dtype=np.bool_)
+    out = np.empty(3)
+    for m in range(n):
+        c = cand[m]
+        if _depth_and_exit(p, a[c], b[c], radius[c], out) < -_CREASE:
+            continue
+        length = math.sqrt((out[0] - p[0]) ** 2 + (out[1] - p[1]) ** 2 + (out[2] - p[2]) ** 2)
+        if length < 1e-12:  # on the surface: the normal from the axis
+            t = _closest_t(p, a[c], b[c])
+            for k in range(3):
+                out[k] = p[k] + (p[k] - (a[c, k] + t * (b[c, k] - a[c, k])))
+            length = math.sqrt((out[0] - p[0]) ** 2 + (out[1] - p[1]) ** 2
+                               + (out[2] - p[2]) ** 2)
+            if length < 1e-12:
+                continue
+        near[m] = True
+        for k in range(3):
+            normals[m, k] = (out[k] - p[k]) / length
+    rays = np.zeros((n + n * n + 1, 3))
+    count = 0
+    for m in range(n):
+        if not near[m]:
+            continue
+        rays[count] = normals[m]
+        rays[n + n * n] += normals[m]
+        count += 1
+        for m2 in range(m + 1, n):
+            if near[m2]:
+                rays[count] = normals[m] + normals[m2]
+                count += 1
+    rays[count] = rays[n + n * n]
+    count += 1
+    best_move = _MAX_EXIT
+    best = np.empty(3)
+    q = np.empty(3)
+    found = False
+    for r in range(count):
+        length = math.sqrt(rays[r, 0] ** 2 + rays[r, 1] ** 2 + rays[r, 2] ** 2)
+        if length < 1e-9:
+            continue
+        s = 0.0
+        while s < best_move:
+            for k in range(3):
+                q[k] = p[k] + s * rays[r, k] / length
+            depth = _union_depth(q, a, b, radius, cand, n)
+            if depth <= 1e-6:
+                best_move = s
+                best[0], best[1], best[2] = q[0], q[1], q[2]
+                found = True
+                break
+            s += depth + 1e-6
+    if found:
+        p[0], p[1], p[2] = best[0], best[1], best[2]
