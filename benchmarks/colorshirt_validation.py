@@ -44,7 +44,10 @@ Results of each run are appended to ``--results`` (JSONL) and reused by later
 invocations with the same ``--tag`` (``--fresh`` recomputes), so an interrupted run
 resumes where it stopped. Each row keeps, per scored frame with a pose, its number
 from the start, the eleven joints' errors (cm) and how many cameras' pixels counted
-(``per_frame``): ``colorshirt_decompose.py`` splits the error by cause from them.
+(``per_frame``): ``colorshirt_decompose.py`` splits the error by cause from them;
+and with one camera the root's depth error along the camera's axis, the reported
+``depth_std`` and the depth filter's own estimate's error (cm, ``per_frame_depth``):
+``colorshirt_depth_noise.py`` splits it into bias and frame-to-frame noise.
 """
 
 from __future__ import annotations
@@ -360,6 +363,7 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
     tracker = create_colorshirt_tracker(options, cams, database=db)
     errs, aligned, ms, cpu, depth, calib = [], [], [], [], [], []
     per_frame: list[list[float]] = []  # for colorshirt_decompose.py
+    per_depth: list[list[float | None]] = []  # for colorshirt_depth_noise.py
     frames = found = 0
     with src:
         for fs in src:
@@ -389,6 +393,13 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
                 std = r.extras.get("depth_std")
                 if isinstance(std, float):  # one camera: is the reported std honest?
                     calib.append(abs(depth[-1]) < 2.0 * std)
+                if setting.cameras == 1:  # with the depth filter's own estimate's error
+                    post = tracker.diagnostics.get("depth_post")
+                    filt = (round(100 * (float(post[0]) - c.world_to_camera(t[0])[2]), 2)
+                            if isinstance(post, tuple) else None)
+                    per_depth.append([frames - 1, round(100 * depth[-1], 2),
+                                      round(100 * std, 2) if isinstance(std, float) else None,
+                                      filt])
     e = np.array(errs)
     return {"mpjpe_cm": float(100 * e.mean()) if len(e) else float("nan"),
             "worst_frame_cm": float(100 * e.max()) if len(e) else float("nan"),
@@ -402,7 +413,7 @@ def run_one(folder: Path, setting: Setting, options: ColorShirtOptions,
             "root_depth_bias_cm": float(100 * np.mean(depth)) if depth else float("nan"),
             "root_depth_abs_cm": float(100 * np.mean(np.abs(depth))) if depth else float("nan"),
             "body": tracker.body_name,
-            "per_frame": per_frame}
+            "per_frame": per_frame, "per_frame_depth": per_depth}
 
 
 def room_kind(row: dict[str, Any]) -> str:
