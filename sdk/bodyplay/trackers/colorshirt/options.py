@@ -117,6 +117,7 @@ class ColorShirtOptions:
     shirt_depth_std: float = 0.15
     body_scale_std: float = 0.06
     depth_pin_std: float = 0.01
+    turn_std: float = 0.1
     stance_cue: bool = False
     head_cue: bool = True
     head_offset: float = 0.02
@@ -210,6 +211,7 @@ _RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
     ("shirt_depth_std", 0.001, 1.0, False, ""),
     ("body_scale_std", 0.001, 0.5, False, ""),
     ("depth_pin_std", 0.001, 1.0, False, " m"),
+    ("turn_std", 0.0, 3.2, False, " rad (0: held as loosely as the other rotations)"),
     ("floor_std", 0.005, 1.0, False, " m"),
     ("head_offset", -0.2, 0.2, False, " m"),
     ("head_std", 0.002, 1.0, False, " m"),
