@@ -20,7 +20,9 @@ Two sources:
   reported std;
 * ``--ninja DIR``: the tracked joints ``ninja_gestures.py --cache DIR`` kept, with
   the truth and the camera recomputed from each script's seed; per script, and
-  the median and worst.
+  the median and worst; beside the depth, the error of the shoulders' turn about
+  the vertical (the facing direction the gestures' ``shift_left`` and
+  ``shift_forward`` are measured along) and its RMS change over 0.5 s.
 
     .venv/bin/python benchmarks/colorshirt_depth_noise.py --results R.jsonl --tag T
     .venv/bin/python benchmarks/colorshirt_depth_noise.py --ninja DIR --half tune --scripts 16
@@ -58,27 +60,40 @@ def noise(frames: NDArray[np.int64], err: NDArray[np.float64]) -> dict[str, floa
             "jitter": rms(step), "drift": rms(drift)}
 
 
-def _table(rows: list[tuple[str, dict[str, float]]], title: str) -> list[str]:
+def _table(rows: list[tuple[str, dict[str, float]]], title: str, turn: bool = False
+           ) -> list[str]:
     keys = ["bias", "sd", "jitter", "drift"]
-    out = [f"| {title} | frames | bias (cm) | sd (cm) | jitter (cm) | drift 0.5 s (cm) | honest |",
-           "|---|---|---|---|---|---|---|"]
+    last = "turn error (deg) | turn swing 0.5 s (deg)" if turn else "honest"
+    out = [f"| {title} | frames | bias (cm) | sd (cm) | jitter (cm) | drift 0.5 s (cm) | {last} |",
+           "|---|---|---|---|---|---|---|" + ("---|" if turn else "")]
     for name, n in rows:
+        tail = (f"{n['turn']:.1f} | {n['swing']:.1f}" if turn
+                else f"{n.get('honest', float('nan')):.2f}")
         out.append(f"| {name} | {n['frames']} | " + " | ".join(f"{n[k]:+.1f}" if k == "bias"
                                                             else f"{n[k]:.1f}" for k in keys)
-                   + f" | {n.get('honest', float('nan')):.2f} |")
+                   + f" | {tail} |")
     return out
+
+
+def _turn(joints: NDArray[np.float64]) -> float:
+    """The shoulders' turn about the vertical (deg), as the gestures' facing reads it."""
+    v = joints[5] - joints[8]  # l_shoulder - r_shoulder
+    return float(np.degrees(np.arctan2(-v[2], v[0])))
 
 
 def _summary(rows: list[tuple[str, dict[str, float]]]) -> str:
     """Median / worst over clips: |bias|, sd, jitter, drift, honest (worst = lowest)."""
     a = {k: np.array([n[k] for _, n in rows], np.float64)
          for k in ("bias", "sd", "jitter", "drift", "honest")}
-    f = {k: (float(np.nanmedian(np.abs(v))), float(np.nanmax(np.abs(v)))) for k, v in a.items()}
-    h = (float(np.nanmedian(a["honest"])), float(np.nanmin(a["honest"])))
-    return (f"median / worst clip: |bias| {f['bias'][0]:.1f} / {f['bias'][1]:.1f} cm, "
-            f"sd {f['sd'][0]:.1f} / {f['sd'][1]:.1f}, jitter {f['jitter'][0]:.1f} / "
-            f"{f['jitter'][1]:.1f}, drift 0.5 s {f['drift'][0]:.1f} / {f['drift'][1]:.1f}; "
-            f"honest {h[0]:.2f} / {h[1]:.2f}")
+    f = {k: (float(np.nanmedian(np.abs(v))), float(np.nanmax(np.abs(v))))
+         for k, v in a.items() if np.isfinite(v).any()}
+    out = (f"median / worst clip: |bias| {f['bias'][0]:.1f} / {f['bias'][1]:.1f} cm, "
+           f"sd {f['sd'][0]:.1f} / {f['sd'][1]:.1f}, jitter {f['jitter'][0]:.1f} / "
+           f"{f['jitter'][1]:.1f}, drift 0.5 s {f['drift'][0]:.1f} / {f['drift'][1]:.1f}")
+    if "honest" in f:
+        out += (f"; honest {float(np.nanmedian(a['honest'])):.2f} / "
+                f"{float(np.nanmin(a['honest'])):.2f}")
+    return out
 
 
 def from_results(path: Path, tag: str, settings: list[str], half: str) -> list[str]:
@@ -137,18 +152,31 @@ def from_ninja(cache: Path, half: str, scripts: int, lead_in: float) -> list[str
             o.cameras, o.width, o.height, o.hfov_deg, o.distance, o.baseline, o.k1,
             o.seed)).cameras[0]
         err = np.full(len(z["t"]), np.nan)
+        turn = np.full(len(z["t"]), np.nan)
         depth = np.zeros(len(z["t"]))
         for i, (t, j) in enumerate(zip(z["t"], z["joints"], strict=True)):
-            depth[i] = cam.world_to_camera(sk.joint_positions(tl.pose_at(float(t)))[0])[2]
+            truth = sk.joint_positions(tl.pose_at(float(t)))
+            depth[i] = cam.world_to_camera(truth[0])[2]
             if np.isfinite(j[0]).all():
                 err[i] = 100 * (cam.world_to_camera(j[0])[2] - depth[i])
+                turn[i] = _turn(j) - _turn(truth)
         n = noise(np.arange(len(err)), err)
         n["honest"] = float("nan")
+        ok = np.isfinite(turn)
+        n["turn"] = float(np.mean(np.abs(turn[ok]))) if ok.any() else float("nan")
+        swing = turn[SHIFT_FRAMES:] - turn[:-SHIFT_FRAMES]
+        swing = swing[np.isfinite(swing)]
+        n["swing"] = float(np.sqrt(np.mean(swing**2))) if len(swing) else float("nan")
         table.append((f"seed {seed} ({script.body}, {np.median(depth):.1f} m)", n))
     if not table:
         raise SystemExit(f"no cached colour-shirt scripts of the {half} half in {cache}")
-    return [f"ninja scripts, {half} half, lead-in {lead_in:g} s: {_summary(table)}", ""] + \
-        _table(table, "script")
+    t = np.array([n["turn"] for _, n in table])
+    w = np.array([n["swing"] for _, n in table])
+    return [f"ninja scripts, {half} half, lead-in {lead_in:g} s: {_summary(table)}",
+            f"shoulders' turn error (deg; the gestures' facing direction), median / worst "
+            f"script: mean |error| {np.nanmedian(t):.1f} / {np.nanmax(t):.1f}, RMS change "
+            f"over 0.5 s {np.nanmedian(w):.1f} / {np.nanmax(w):.1f}", ""] + \
+        _table(table, "script", turn=True)
 
 
 def main(argv: list[str] | None = None) -> int:
