@@ -54,7 +54,10 @@ class ColorShirtOptions:
       (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
       ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
       (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
-      ``stance_cue``: the filter also reads the root's height (off by default).
+      ``stance_cue``: the filter also reads the root's height (off by default);
+      ``turn_std`` (rad): how tightly a one-camera rig's fits hold the trunk's turn
+      about the vertical at the database blend's (0: as loosely as the other
+      rotations, 0.3 rad): one camera sees that turn only to second order.
     * ``head_cue``: the head above the collar anchors the head joint
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated

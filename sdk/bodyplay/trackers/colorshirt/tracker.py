@@ -621,7 +621,7 @@ class ColorShirtTracker:
         feet = self._depth.feet_known()
         if not (feet or rig1):
             return q, (RootPrior.camera_depth(cam, depth, std),)
-        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std),)
+        priors = (RootPrior.camera_depth(cam, depth, self.options.depth_pin_std if feet else std),)
         z0 = float(cam.world_to_camera(placed[:3])[2])
         if z0 > 0.3:  # along the ray through the root: the shirt stays where it is seen
             placed = placed.copy()
