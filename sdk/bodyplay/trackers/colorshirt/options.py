@@ -54,12 +54,7 @@ class ColorShirtOptions:
       (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
       ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
       (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
-      ``stance_cue``: the filter also reads the root's height (off by default);
-      ``turn_std`` (rad): how tightly a one-camera rig's fits at the filter's depth
-      hold the trunk's turn about the vertical at the database blend's (0, the
-      default: as loosely as the other rotations, 0.3 rad); one camera sees that
-      turn only to second order (the ninja game, whose player faces the camera,
-      sets 0.1; docs/colorshirt.md).
+      ``stance_cue``: the filter also reads the root's height (off by default).
     * ``head_cue``: the head above the collar anchors the head joint
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
@@ -122,7 +117,6 @@ class ColorShirtOptions:
     shirt_depth_std: float = 0.15
     body_scale_std: float = 0.06
     depth_pin_std: float = 0.01
-    turn_std: float = 0.0
     stance_cue: bool = False
     head_cue: bool = True
     head_offset: float = 0.02
@@ -216,7 +210,6 @@ _RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
     ("shirt_depth_std", 0.001, 1.0, False, ""),
     ("body_scale_std", 0.001, 0.5, False, ""),
     ("depth_pin_std", 0.001, 1.0, False, " m"),
-    ("turn_std", 0.0, 3.2, False, " rad (0: held as loosely as the other rotations)"),
     ("floor_std", 0.005, 1.0, False, " m"),
     ("head_offset", -0.2, 0.2, False, " m"),
     ("head_std", 0.002, 1.0, False, " m"),
