@@ -22,6 +22,7 @@ from bodyplay.body.shirt import NUM_COLORS, PATCHES
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.anchors import Observed
 from bodyplay.trackers.colorshirt.colors import ColorModel
+from bodyplay.trackers.colorshirt.crossview import CrossView
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch, person_region
 from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocation, ShirtLocator
@@ -122,6 +123,9 @@ class CameraWork:
         (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
         self.locator = ShirtLocator(options.locate)
         self._undistort = [c.undistort_maps() for c in cameras]
+        self.crossview = (CrossView(len(cameras)) if options.cross_view and len(cameras) > 1
+                          else None)
+        """The room seen alike by two cameras (None with one camera)."""
 
     def new_states(self) -> list[CameraState]:
         """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
@@ -139,19 +143,44 @@ class CameraWork:
         return states
 
     # ---- one camera's share of a frame: locate, classify, query ----------------------
-    def view(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
-             confirmed: bool) -> CameraView | None:
+    def prepare(self, states: list[CameraState], images: list[NDArray[np.uint8]]) -> None:
+        """A new frame set: each camera's image undistorted and reduced (MOG2 and the
+        plates share it), and its room plate started with the pixels another camera
+        shows as the same room (:class:`.crossview.CrossView`, two cameras or more)."""
+        o = self.options
+        plate = o.floor_cue or o.head_cue
+        for i, (st, image) in enumerate(zip(states, images, strict=True)):
+            maps = self._undistort[i]
+            if maps is not None:
+                image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR),
+                                   np.uint8)
+            st.image, st.reduced = image, None
+            if o.background_subtraction or plate or o.room_plate:
+                st.reduced = st.background.reduce(image)
+        if not o.room_plate:
+            return
+        alike: list[NDArray[np.bool_] | None] = [None] * len(states)
+        if self.crossview is not None:
+            alike = self.crossview.room([st.reduced for st in states],  # type: ignore[misc]
+                                        [st.torso_box if st.last_box is not None else None
+                                         for st in states], _REDUCE)
+        for st, same in zip(states, alike, strict=True):
+            if st.reduced is not None:
+                st.room.start(st.reduced, same)
+
+    def view(self, i: int, st: CameraState, t: float, confirmed: bool) -> CameraView | None:
         """Camera ``i``'s view of the frame at ``t`` (None: no shirt there).
 
         ``confirmed``: whether the tracker holds a pose reported (until one is,
         the floor cue's plate takes the shirt-like region for possible clutter).
         """
-        found = self.views(i, st, image, t, confirmed, 1)
+        found = self.views(i, st, t, confirmed, 1)
         return found[0] if found else None
 
-    def views(self, i: int, st: CameraState, image: NDArray[np.uint8], t: float,
-              confirmed: bool, count: int, tracked: bool = False) -> list[CameraView]:
-        """Camera ``i``'s candidate views of the frame at ``t``, best located first.
+    def views(self, i: int, st: CameraState, t: float, confirmed: bool, count: int,
+              tracked: bool = False) -> list[CameraView]:
+        """Camera ``i``'s candidate views of the frame at ``t`` (:meth:`prepare`), best
+        located first.
 
         With ``count`` 1 the one region the histogram search finds (near the
         shirt's last box first, within the gate; else in the whole frame, with
@@ -162,15 +191,9 @@ class CameraWork:
         chooses (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
         """
         o = self.options
-        maps = self._undistort[i]
-        if maps is not None:
-            image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR), np.uint8)
-        reduced = None
+        image, reduced = st.image, st.reduced
+        assert image is not None, "prepare() the frame first"
         plate = o.floor_cue or o.head_cue
-        if o.background_subtraction or plate or o.room_plate:
-            reduced = st.background.reduce(image)  # MOG2 and the plates share it
-        if reduced is not None and o.room_plate:
-            st.room.start(reduced)
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
         if reduced is not None and plate:
             st.floor.start(reduced, reduced=True)

@@ -65,7 +65,8 @@ class ColorShirtOptions:
     * ``plate_mask``: classify only pixels unlike the learned background plate (it
       replaces MOG2's mask with at most ``plate_mask_alone_cameras`` cameras);
       ``room_plate``: learn the room from what the player uncovers (silhouette grown
-      by ``room_margin``), so a player may start in view.
+      by ``room_margin``), so a player may start in view; ``cross_view``: with two
+      cameras or more, pixels another camera shows as the same room are room too.
     * ``good_residual``: a fit reprojecting within this many shirt sizes is *good*
       (teaches the room plate, judges the body, overrides the speed gate).
     * ``start_candidates``: shirt-like regions per camera tried when nothing is
@@ -130,6 +131,7 @@ class ColorShirtOptions:
     arm_depth_pull: float = 0.01
     plate_mask: bool = True
     room_plate: bool = True
+    cross_view: bool = True
     room_margin: float = 0.1
     good_residual: float = 0.09
     start_candidates: int = 3

@@ -65,6 +65,9 @@ class RoomPlate:
         self._away: NDArray[np.bool_] | None = None
         """Pixels away from the player at the last :meth:`learn` (the light's gain is
         measured there)."""
+        self._seen_alike: NDArray[np.bool_] | None = None
+        """This frame's pixels that another camera shows as the same room
+        (:class:`.crossview.CrossView`)."""
 
     @property
     def known(self) -> NDArray[np.bool_] | None:
@@ -84,8 +87,14 @@ class RoomPlate:
         k = self.known
         return 0.0 if k is None else float(k.mean())
 
-    def start(self, small: NDArray[np.uint8] | NDArray[np.float32]) -> None:
-        """A new frame at the plate's resolution (RGB); the plate follows the light."""
+    def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
+              seen_alike: NDArray[np.bool_] | None = None) -> None:
+        """A new frame at the plate's resolution (RGB); the plate follows the light.
+
+        ``seen_alike``: its pixels that another camera shows as the same room
+        (:class:`.crossview.CrossView`); they count as room this frame, known or not.
+        """
+        self._seen_alike = seen_alike
         f = np.asarray(small, np.float32)
         if self._mean is None or self._mean.shape != f.shape:
             h, w = f.shape[:2]
@@ -108,18 +117,20 @@ class RoomPlate:
                 self._mean *= gain
 
     def foreground(self) -> NDArray[np.bool_] | None:
-        """This frame's pixels that may be the player: unknown, or unlike the plate.
-        None while nothing is known (no mask)."""
+        """This frame's pixels that may be the player: unknown, or unlike the plate,
+        and not seen alike by another camera. None while nothing is known (no mask)."""
         if self._small is None or self._mean is None:
             return None
         known = self.known
         assert known is not None
         if not known.any():
-            return None
+            return None if self._seen_alike is None else ~self._seen_alike
         level = float(np.sum(cv2.mean(self._mean)[:3]))
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
         diff = cv2.transform(cv2.absdiff(self._small, self._mean), np.ones((1, 3), np.float32))
         room = known & (diff <= threshold)
+        if self._seen_alike is not None:
+            room |= self._seen_alike
         room = cv2.morphologyEx(room.astype(np.uint8), cv2.MORPH_OPEN,
                                 np.ones((3, 3), np.uint8)) > 0
         return ~room

@@ -224,6 +224,7 @@ class ColorShirtTracker:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
         confirmed = self._reported is not None
+        self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
         if starting:
             views, fresh = self._start_views(frames, confirmed)
@@ -232,8 +233,8 @@ class ColorShirtTracker:
                 if self._selection is not None:
                     self._selection.previous.clear()
         else:
-            views = [v for i, fr in enumerate(frames)
-                     if (v := self._work.view(i, self._cams[i], fr.image, frames.t, confirmed))
+            views = [v for i in range(len(frames))
+                     if (v := self._work.view(i, self._cams[i], frames.t, confirmed))
                      is not None]
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
@@ -362,10 +363,10 @@ class ColorShirtTracker:
         """
         o = self.options
         lone = None if self._alone is None else self._alone[0]
-        cands = [self._work.views(i, self._cams[i], fr.image, frames.t, confirmed,
+        cands = [self._work.views(i, self._cams[i], frames.t, confirmed,
                                   1 if i == lone else o.start_candidates,
                                   lone is not None or len(self.cameras) == 1)
-                 for i, fr in enumerate(frames)]
+                 for i in range(len(frames))]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
         tracked = [] if lone is None else cands[lone]
         moved = {id(v): self._work.moved(self._cams[v.index], v)

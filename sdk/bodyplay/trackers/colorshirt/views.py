@@ -75,6 +75,10 @@ class CameraState:
     """The room learned from what the player uncovers (masks the classification)."""
     located: bool = False
     """Whether the histogram search found a shirt in this camera this frame."""
+    image: NDArray[np.uint8] | None = None
+    """This frame's image, undistorted (:meth:`.camerawork.CameraWork.prepare`)."""
+    reduced: NDArray[np.uint8] | None = None
+    """This frame's image at the background model's and the plates' resolution."""
 
     def __post_init__(self) -> None:
         self.floor.room = self.room  # the feet's source until an empty room was seen

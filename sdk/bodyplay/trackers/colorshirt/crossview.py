@@ -1,0 +1,131 @@
+"""What the other cameras tell about the room: stereo background (beyond the paper).
+
+With the player in view from the first frame nothing shows the room behind a player
+who stands still, and clutter in shirt colours touching them is classified as the
+shirt. A second camera sees that clutter too, from elsewhere: the room's dominant
+surface (the back wall, or the floor) maps one camera's image onto the other's by
+a homography ``H``, estimated once from features matched between the two views
+(RANSAC keeps the surface most of the frame shows). Where a pixel ``p`` of camera
+``a`` and camera ``b``'s pixel at ``H p`` show the same colour, ``p`` shows that
+surface: a player standing in front of it is seen by ``b`` elsewhere (the ray
+through ``p`` meets the player, not the wall, and ``b`` sees that point at another
+place), so the colours differ. This is Ivanov, Bobick and Liu's disparity-verified
+background subtraction (IJCV 2000) with the background's disparity a homography.
+
+It fails where the player's own surface maps like the room's (a player standing
+against the wall): :meth:`CrossView.room` then finds much of the player's last
+torso box confirmed and does not use the cue in that camera for the frame.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["CrossView"]
+
+Box = tuple[int, int, int, int]
+
+
+class CrossView:
+    """The room seen alike by two cameras (see the module docstring), per camera pair.
+
+    ``threshold``: the summed R + G + B difference (of the smoothed images, after one
+    gain per channel between the cameras) under which two pixels show the same room,
+    in a room at least as bright as ``contrast_level`` (dimmer rooms shrink it in
+    proportion, down to 30%, as the plates do); ``min_inliers``: feature matches the
+    homography must explain to be used; ``retry``: frames between attempts while no
+    homography was found; ``max_body_share``: share of the last torso box that may be
+    confirmed before the cue is dropped for that camera and frame.
+    """
+
+    def __init__(self, cameras: int, threshold: float = 25.0, contrast_level: float = 330.0,
+                 min_inliers: int = 40, retry: int = 15, max_body_share: float = 0.4) -> None:
+        self.cameras = int(cameras)
+        self.threshold = float(threshold)
+        self.contrast_level = float(contrast_level)
+        self.min_inliers = int(min_inliers)
+        self.retry = int(retry)
+        self.max_body_share = float(max_body_share)
+        self._H: dict[tuple[int, int], NDArray[np.float64]] = {}
+        """Per ordered pair ``(a, b)``: the homography from ``a``'s pixels to ``b``'s."""
+        self._wait = 0
+
+    @property
+    def ready(self) -> bool:
+        """Whether a homography was found between some pair of cameras."""
+        return bool(self._H)
+
+    def _estimate(self, smalls: list[NDArray[np.uint8]]) -> None:
+        orb = cv2.ORB_create(nfeatures=1500)
+        feats = [orb.detectAndCompute(cv2.cvtColor(s, cv2.COLOR_RGB2GRAY), None)
+                 for s in smalls]
+        matcher = cv2.BFMatcher(cv2.NORM_HAMMING)
+        for a in range(len(smalls)):
+            for b in range(a + 1, len(smalls)):
+                (ka, da), (kb, db) = feats[a], feats[b]
+                if da is None or db is None or len(ka) < 8 or len(kb) < 8:
+                    continue
+                pairs = matcher.knnMatch(da, db, k=2)
+                good = [m[0] for m in pairs if len(m) == 2 and m[0].distance < 0.75 * m[1].distance]
+                if len(good) < self.min_inliers:
+                    continue
+                pa = np.float32([ka[m.queryIdx].pt for m in good])
+                pb = np.float32([kb[m.trainIdx].pt for m in good])
+                H, inl = cv2.findHomography(pa, pb, cv2.RANSAC, 2.0)
+                if H is None or int(inl.sum()) < self.min_inliers:
+                    continue
+                self._H[(a, b)] = H
+                self._H[(b, a)] = np.linalg.inv(H)
+
+    def room(self, smalls: list[NDArray[np.uint8]], torso: list[Box | None],
+             downscale: int) -> list[NDArray[np.bool_] | None]:
+        """Per camera, its pixels (at the images' reduced resolution) that another
+        camera shows as the same room; None where no camera can tell.
+
+        ``smalls``: every camera's frame, reduced by ``downscale``; ``torso``: each
+        camera's torso box of the last pose (full-resolution pixels, or None).
+        """
+        out: list[NDArray[np.bool_] | None] = [None] * len(smalls)
+        if len(smalls) < 2:
+            return out
+        if not self._H:
+            if self._wait > 0:
+                self._wait -= 1
+                return out
+            self._estimate(smalls)
+            if not self._H:
+                self._wait = self.retry
+                return out
+        blurred = [cv2.blur(s, (3, 3)).astype(np.float32) for s in smalls]
+        for a, fa in enumerate(blurred):
+            h, w = fa.shape[:2]
+            same = np.zeros((h, w), bool)
+            for b, fb in enumerate(blurred):
+                H = self._H.get((a, b))
+                if H is None:
+                    continue
+                warped = cv2.warpPerspective(fb, H, (w, h), flags=cv2.INTER_LINEAR
+                                             | cv2.WARP_INVERSE_MAP,
+                                             borderMode=cv2.BORDER_CONSTANT, borderValue=(-1e4,) * 3)
+                valid = warped[..., 0] >= 0
+                sa, sb = fa[::4, ::4][valid[::4, ::4]], warped[::4, ::4][valid[::4, ::4]]
+                if len(sa) < 100:
+                    continue
+                gain = np.median(sa + 1.0, axis=0) / np.median(sb + 1.0, axis=0)
+                level = float(np.median(sa, axis=0).sum())
+                th = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
+                diff = cv2.transform(cv2.absdiff(fa, warped * gain.astype(np.float32)),
+                                     np.ones((1, 3), np.float32))
+                same |= valid & (diff < th)
+            same = cv2.morphologyEx(same.astype(np.uint8), cv2.MORPH_OPEN,
+                                    np.ones((3, 3), np.uint8)) > 0
+            box = torso[a]
+            if box is not None:
+                x0, y0, x1, y1 = (max(c // downscale, 0) for c in box)
+                inside = same[y0:y1, x0:x1]
+                if inside.size and float(inside.mean()) > self.max_body_share:
+                    continue  # the player maps like the room here: the cue cannot tell
+            out[a] = same
+        return out
