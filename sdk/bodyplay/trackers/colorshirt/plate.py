@@ -92,7 +92,8 @@ class RoomPlate:
         """A new frame at the plate's resolution (RGB); the plate follows the light.
 
         ``seen_alike``: its pixels that another camera shows as the same room
-        (:class:`.crossview.CrossView`); they count as room this frame, known or not.
+        (:class:`.crossview.CrossView`); they count as room this frame where the
+        plate does not know the room (where it does, its own verdict stands).
         """
         self._seen_alike = seen_alike
         f = np.asarray(small, np.float32)
@@ -117,8 +118,9 @@ class RoomPlate:
                 self._mean *= gain
 
     def foreground(self) -> NDArray[np.bool_] | None:
-        """This frame's pixels that may be the player: unknown, or unlike the plate,
-        and not seen alike by another camera. None while nothing is known (no mask)."""
+        """This frame's pixels that may be the player: unlike the plate where it knows
+        the room, else not seen alike by another camera. None while neither tells
+        (no mask)."""
         if self._small is None or self._mean is None:
             return None
         known = self.known
@@ -129,8 +131,8 @@ class RoomPlate:
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
         diff = cv2.transform(cv2.absdiff(self._small, self._mean), np.ones((1, 3), np.float32))
         room = known & (diff <= threshold)
-        if self._seen_alike is not None:
-            room |= self._seen_alike
+        if self._seen_alike is not None:  # the other camera's word where the plate has none
+            room |= ~known & self._seen_alike
         room = cv2.morphologyEx(room.astype(np.uint8), cv2.MORPH_OPEN,
                                 np.ones((3, 3), np.uint8)) > 0
         return ~room

@@ -225,7 +225,7 @@ class ColorShirtTracker:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
         confirmed = self._reported is not None
         self._work.prepare(self._cams, [fr.image for fr in frames],
-                           None if self._prev is None else self._prev[:3])
+                           None if self._reported is None else self._reported[1])
         starting, fresh = self._starting(), False
         if starting:
             views, fresh = self._start_views(frames, confirmed)
