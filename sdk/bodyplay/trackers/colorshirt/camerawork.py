@@ -164,7 +164,7 @@ class CameraWork:
         alike: list[NDArray[np.bool_] | None] = [None] * len(states)
         if self.crossview is not None:
             alike = self.crossview.room([st.reduced for st in states],  # type: ignore[misc]
-                                        root)
+                                        root, [st.silhouette for st in states])
         for st, same in zip(states, alike, strict=True):
             if st.reduced is not None:
                 st.room.start(st.reduced, same)
@@ -469,6 +469,7 @@ class CameraWork:
             return
         verts = None if q is None else renderer.vertices(q)
         for i, (cam, st) in enumerate(zip(self.cameras, states, strict=True)):
+            st.silhouette = None
             if verts is None:
                 st.room.learn(None, everywhere=not ever_reported and not st.located,
                               ambiguous=skip[i])
@@ -486,4 +487,5 @@ class CameraWork:
             grown = cv2.dilate(sil, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
                                                               (2 * r + 1, 2 * r + 1)))
             person = cv2.resize(grown, (w, h), interpolation=cv2.INTER_NEAREST) > 0
+            st.silhouette = cv2.resize(sil, (w, h), interpolation=cv2.INTER_NEAREST) > 0
             st.room.learn(person)

@@ -18,7 +18,9 @@ shifted by little (a player who stands about as far as the room's surface seems
 to). So a pixel counts as the room only where the player, once a pose is known,
 does *not* explain it as well: the homography of the plane through the last
 pose's root, facing camera ``a``, maps ``p`` to where ``b`` would see the player's
-surface, and a pixel alike there too is left to the other masks.
+surface, and a pixel of the last pose's silhouette alike there too is left to the
+other masks (outside it, a patch of clutter in one colour looks alike under any
+shift, and would always be left).
 """
 
 from __future__ import annotations
@@ -112,11 +114,13 @@ class CrossView:
                              np.ones((1, 3), np.float32))
         return np.asarray(valid & (diff < th), bool)
 
-    def room(self, smalls: list[NDArray[np.uint8]], root: NDArray[np.float64] | None
-             ) -> list[NDArray[np.bool_] | None]:
+    def room(self, smalls: list[NDArray[np.uint8]], root: NDArray[np.float64] | None,
+             bodies: list[NDArray[np.bool_] | None]) -> list[NDArray[np.bool_] | None]:
         """Per camera, its pixels (reduced images ``smalls`` of every camera) that
         another camera shows as the same room and, with ``root`` (the last pose's,
-        world metres), not as the player's surface; None where no camera can tell.
+        world metres), not as the player's surface within ``bodies`` (each camera's
+        silhouette of that pose, reduced; None: anywhere); None where no camera can
+        tell.
         """
         out: list[NDArray[np.bool_] | None] = [None] * len(smalls)
         if len(smalls) < 2:
@@ -143,6 +147,9 @@ class CrossView:
                 if P is not None:
                     player = self._alike(fa, fb, P, self.threshold, self.contrast_level)
                     if player is not None:
+                        if bodies[a] is not None:
+                            player &= cv2.dilate(bodies[a].astype(np.uint8),  # type: ignore[union-attr]
+                                                 np.ones((5, 5), np.uint8)) > 0
                         alike &= ~player
                 same = alike if same is None else same | alike
             if same is not None:
