@@ -123,7 +123,7 @@ class CameraWork:
         (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
         self.locator = ShirtLocator(options.locate)
         self._undistort = [c.undistort_maps() for c in cameras]
-        self.crossview = (CrossView(cameras, _REDUCE) if options.cross_view and len(cameras) > 1
+        self.crossview = (CrossView(len(cameras)) if options.cross_view and len(cameras) > 1
                           else None)
         """The room seen alike by two cameras (None with one camera)."""
 
@@ -143,12 +143,10 @@ class CameraWork:
         return states
 
     # ---- one camera's share of a frame: locate, classify, query ----------------------
-    def prepare(self, states: list[CameraState], images: list[NDArray[np.uint8]],
-                root: NDArray[np.float64] | None) -> None:
+    def prepare(self, states: list[CameraState], images: list[NDArray[np.uint8]]) -> None:
         """A new frame set: each camera's image undistorted and reduced (MOG2 and the
         plates share it), and its room plate started with the pixels another camera
-        shows as the same room (:class:`.crossview.CrossView`, two cameras or more;
-        ``root``: the last pose's, whose surface is not the room)."""
+        shows as the same room (:class:`.crossview.CrossView`, two cameras or more)."""
         o = self.options
         plate = o.floor_cue or o.head_cue
         for i, (st, image) in enumerate(zip(states, images, strict=True)):
@@ -164,7 +162,8 @@ class CameraWork:
         alike: list[NDArray[np.bool_] | None] = [None] * len(states)
         if self.crossview is not None:
             alike = self.crossview.room([st.reduced for st in states],  # type: ignore[misc]
-                                        root, [st.silhouette for st in states])
+                                        [st.torso_box if st.last_box is not None else None
+                                         for st in states], _REDUCE)
         for st, same in zip(states, alike, strict=True):
             if st.reduced is not None:
                 st.room.start(st.reduced, same)
@@ -469,7 +468,6 @@ class CameraWork:
             return
         verts = None if q is None else renderer.vertices(q)
         for i, (cam, st) in enumerate(zip(self.cameras, states, strict=True)):
-            st.silhouette = None
             if verts is None:
                 st.room.learn(None, everywhere=not ever_reported and not st.located,
                               ambiguous=skip[i])
@@ -487,5 +485,4 @@ class CameraWork:
             grown = cv2.dilate(sil, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
                                                               (2 * r + 1, 2 * r + 1)))
             person = cv2.resize(grown, (w, h), interpolation=cv2.INTER_NEAREST) > 0
-            st.silhouette = cv2.resize(sil, (w, h), interpolation=cv2.INTER_NEAREST) > 0
             st.room.learn(person)

@@ -224,8 +224,7 @@ class ColorShirtTracker:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
         confirmed = self._reported is not None
-        self._work.prepare(self._cams, [fr.image for fr in frames],
-                           None if self._reported is None else self._reported[1])
+        self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
         if starting:
             views, fresh = self._start_views(frames, confirmed)

@@ -79,8 +79,6 @@ class CameraState:
     """This frame's image, undistorted (:meth:`.camerawork.CameraWork.prepare`)."""
     reduced: NDArray[np.uint8] | None = None
     """This frame's image at the background model's and the plates' resolution."""
-    silhouette: NDArray[np.bool_] | None = None
-    """The last good pose's silhouette at that resolution (None: no such pose)."""
 
     def __post_init__(self) -> None:
         self.floor.room = self.room  # the feet's source until an empty room was seen
