@@ -165,8 +165,11 @@ class CameraWork:
                                         [st.torso_box if st.last_box is not None else None
                                          for st in states], _REDUCE)
         for st, same in zip(states, alike, strict=True):
-            if st.reduced is not None:
-                st.room.start(st.reduced, same)
+            if st.reduced is not None:  # the other cameras' word stands in for an empty
+                # room never seen: once the floor cue's plate learned one, its mask
+                # tells the room without the cross view's mistakes (a still player's
+                # uniform patches, where the shift between the views is small)
+                st.room.start(st.reduced, None if st.floor.plate.ready else same)
 
     def view(self, i: int, st: CameraState, t: float, confirmed: bool) -> CameraView | None:
         """Camera ``i``'s view of the frame at ``t`` (None: no shirt there).
