@@ -76,7 +76,8 @@ def test_the_floor_plate_learns_every_frame_before_the_first_pose_even_where_clu
                 hsv, cv2.COLOR_HSV2RGB)[0, 0]
     located = 0
     for k in range(10):
-        assert work.view(0, st, room, k / 30.0, confirmed=False) is None
+        work.prepare([st], [room])
+        assert work.view(0, st, k / 30.0, confirmed=False) is None
         located += st.located
     assert located > 0  # the search did take clutter for a shirt
     assert st.floor.plate.ready

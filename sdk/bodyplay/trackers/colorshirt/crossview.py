@@ -56,7 +56,7 @@ class CrossView:
         self._wait = 0
 
     def _estimate(self, smalls: list[NDArray[np.uint8]]) -> None:
-        orb = cv2.ORB_create(nfeatures=1500)
+        orb = cv2.ORB.create(nfeatures=1500)
         feats = [orb.detectAndCompute(cv2.cvtColor(s, cv2.COLOR_RGB2GRAY), None)
                  for s in smalls]
         matcher = cv2.BFMatcher(cv2.NORM_HAMMING)
@@ -69,13 +69,13 @@ class CrossView:
                 good = [m[0] for m in pairs if len(m) == 2 and m[0].distance < 0.75 * m[1].distance]
                 if len(good) < self.min_inliers:
                     continue
-                pa = np.float32([ka[m.queryIdx].pt for m in good])
-                pb = np.float32([kb[m.trainIdx].pt for m in good])
+                pa = np.array([ka[m.queryIdx].pt for m in good], np.float32)
+                pb = np.array([kb[m.trainIdx].pt for m in good], np.float32)
                 H, inl = cv2.findHomography(pa, pb, cv2.RANSAC, 2.0)
                 if H is None or int(inl.sum()) < self.min_inliers:
                     continue
-                self._H[(a, b)] = H
-                self._H[(b, a)] = np.linalg.inv(H)
+                self._H[(a, b)] = np.asarray(H, np.float64)
+                self._H[(b, a)] = np.asarray(np.linalg.inv(H), np.float64)
 
     def room(self, smalls: list[NDArray[np.uint8]], torso: list[Box | None],
              downscale: int) -> list[NDArray[np.bool_] | None]:
