@@ -18,7 +18,6 @@ costs; after the empty room (``steady-2-empty``) it is about 0.5%.
 from __future__ import annotations
 
 import argparse
-import ast
 import sys
 from pathlib import Path
 
@@ -96,15 +95,9 @@ def main(argv: list[str] | None = None) -> int:
     """Track a half's clips in one steady setting and print the fit's share on the room."""
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--half", choices=("tune", "report", "all"), default="tune")
-    ap.add_argument("--setting", default="steady-2-view")
-    ap.add_argument("--clips", default="", help="only these clips (comma-separated names)")
+    validation.add_capture_arguments(ap, "steady-2-view")
     ap.add_argument("--threshold", type=float, default=40.0,
                     help="summed RGB difference from the empty room that counts as the player")
-    ap.add_argument("--seconds", type=float, default=3.0)
-    ap.add_argument("--db-size", type=int, default=20_000)
-    ap.add_argument("--work", default="/work/cache-colorshirt")
-    ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE")
     args = ap.parse_args(argv)
     if not (validation.MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to measure")
@@ -113,22 +106,13 @@ def main(argv: list[str] | None = None) -> int:
     if setting.lighting != "steady":
         print(f"{args.setting}: only steady light has its empty room as the background truth")
         return 1
-    extra = {k: ast.literal_eval(v) for k, v in (i.split("=", 1) for i in args.set)}
-    options = ColorShirtOptions(database_size=args.db_size, **extra)
-    chosen = set(args.clips.split(",")) if args.clips else None
-    clips = validation.all_clips()
-    dbs: dict[str, validation.PoseDatabase] = {}
+    options = validation.options_from(args)
     print(f"# colorshirt clutter, half {args.half}, {args.setting}, {machine()}, "
           f"options {' '.join(args.set) or 'default'}", flush=True)
     print("| clip | body | MPJPE (cm) | used pixels on the room | their median distance "
           "from the player (px) |\n|---|---|---|---|---|")
     shares = []
-    for i, clip in enumerate(clips):
-        if (args.half != "all" and validation.half_of(clip, clips) != args.half) or (
-                chosen is not None and clip.name not in chosen):
-            continue
-        folder = validation.capture(Path(args.work), clip, setting.lighting, i, args.seconds)
-        db = validation.database_for(clip, args.db_size, dbs)
+    for clip, folder, db in validation.half_captures(args, setting):
         mpjpe, share, distance, body = track_clutter(folder, setting, options, db,
                                                      args.threshold)
         shares.append(share)

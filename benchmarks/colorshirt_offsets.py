@@ -20,7 +20,6 @@ part alone could give.
 from __future__ import annotations
 
 import argparse
-import ast
 import sys
 from pathlib import Path
 
@@ -100,24 +99,14 @@ def main(argv: list[str] | None = None) -> int:
     """Track a half's clips in one setting and print the joints' systematic offsets."""
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--half", choices=("tune", "report", "all"), default="tune")
-    ap.add_argument("--setting", default="steady-2-empty")
-    ap.add_argument("--clips", default="", help="only these clips (comma-separated names)")
+    validation.add_capture_arguments(ap, "steady-2-empty")
     ap.add_argument("--skip", type=float, default=1.0, help="seconds of each clip left out")
-    ap.add_argument("--seconds", type=float, default=3.0)
-    ap.add_argument("--db-size", type=int, default=20_000)
-    ap.add_argument("--work", default="/work/cache-colorshirt")
-    ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE")
     args = ap.parse_args(argv)
     if not (validation.MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to measure")
         return 1
     setting = {s.name: s for s in validation.SETTINGS}[args.setting]
-    extra = {k: ast.literal_eval(v) for k, v in (i.split("=", 1) for i in args.set)}
-    options = ColorShirtOptions(database_size=args.db_size, **extra)
-    chosen = set(args.clips.split(",")) if args.clips else None
-    clips = validation.all_clips()
-    dbs: dict[str, validation.PoseDatabase] = {}
+    options = validation.options_from(args)
     print(f"# colorshirt offsets, half {args.half}, {args.setting}, {machine()}, "
           f"options {' '.join(args.set) or 'default'}; cm, truth body frame "
           f"(x left, y up, z facing), after {args.skip:g} s", flush=True)
@@ -125,12 +114,7 @@ def main(argv: list[str] | None = None) -> int:
           + " | ".join(_ARM_COLUMNS) + " |")
     print("|---|---|---" + "|---" * (4 + len(_ARM_COLUMNS)) + "|")
     means, arm_means, errors = [], [], []
-    for i, clip in enumerate(clips):
-        if (args.half != "all" and validation.half_of(clip, clips) != args.half) or (
-                chosen is not None and clip.name not in chosen):
-            continue
-        folder = validation.capture(Path(args.work), clip, setting.lighting, i, args.seconds)
-        db = validation.database_for(clip, args.db_size, dbs)
+    for clip, folder, db in validation.half_captures(args, setting):
         offs, arms, body = track_offsets(folder, setting, options, db, args.skip)
         if not len(offs):
             print(f"| {clip.name} | {body} | no pose |")

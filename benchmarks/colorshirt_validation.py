@@ -61,7 +61,7 @@ import os
 import shutil
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -350,6 +350,41 @@ def database_for(clip: Clip, size: int, cache: dict[str, PoseDatabase]) -> PoseD
         cache[key] = load_or_build_database(Skeleton.from_shape("m"), DatabaseOptions(size=size),
                                             pose_source=sampler)
     return cache[key]
+
+
+def add_capture_arguments(ap: argparse.ArgumentParser, setting: str) -> None:
+    """The arguments of a script that tracks one setting's captures of a half
+    (``--half``, ``--setting`` defaulting to ``setting``, ``--clips``, ``--seconds``,
+    ``--db-size``, ``--work``, ``--set``), as ``colorshirt_offsets.py`` and
+    ``colorshirt_clutter.py`` take them."""
+    ap.add_argument("--half", choices=("tune", "report", "all"), default="tune")
+    ap.add_argument("--setting", default=setting)
+    ap.add_argument("--clips", default="", help="only these clips (comma-separated names)")
+    ap.add_argument("--seconds", type=float, default=3.0)
+    ap.add_argument("--db-size", type=int, default=20_000)
+    ap.add_argument("--work", default="/work/cache-colorshirt")
+    ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE")
+
+
+def options_from(args: argparse.Namespace) -> ColorShirtOptions:
+    """The tracker's options of :func:`add_capture_arguments`' ``--db-size`` and ``--set``."""
+    extra = {k: ast.literal_eval(v) for k, v in (i.split("=", 1) for i in args.set)}
+    return ColorShirtOptions(database_size=args.db_size, **extra)
+
+
+def half_captures(args: argparse.Namespace, setting: Setting
+                  ) -> Iterator[tuple[Clip, Path, PoseDatabase]]:
+    """Each clip of ``args.half`` (and ``--clips``) with its capture in ``setting``'s
+    lighting (rendered once, cached under ``--work``) and its pose database."""
+    chosen = set(args.clips.split(",")) if args.clips else None
+    clips = all_clips()
+    dbs: dict[str, PoseDatabase] = {}
+    for i, clip in enumerate(clips):
+        if (args.half != "all" and half_of(clip, clips) != args.half) or (
+                chosen is not None and clip.name not in chosen):
+            continue
+        folder = capture(Path(args.work), clip, setting.lighting, i, args.seconds)
+        yield clip, folder, database_for(clip, args.db_size, dbs)
 
 
 # ---- running ---------------------------------------------------------------------------
