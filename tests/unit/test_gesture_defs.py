@@ -199,6 +199,22 @@ def test_gesture_needs_stage_one_to_end_before_it_starts_again(skeleton: Skeleto
     assert [e.phase for e in ev] == ["started", "performed"]
 
 
+def test_a_one_frame_break_of_a_held_pose_restarts_the_gesture_at_once(skeleton: Skeleton):
+    text = '[gesture]\ncooldown = 0\n[[stage]]\nwhen = ["above(r_wrist, head) > 0"]\nhold = 0.2\n'
+    rec = GestureRecognizer([parse_gesture(text, default_name="up")])
+    up, down = _arm_up(skeleton), _standing(skeleton)
+    ev = _feed(rec, [down, up, up, down] + [up] * 10)  # a glitch in the middle of the hold
+    assert [e.phase for e in ev] == ["started", "canceled", "started", "performed"]
+    assert ev[2].t == pytest.approx(4 / 30)  # the first frame the pose holds again
+
+
+def test_a_gesture_canceled_while_stage_one_still_holds_waits_for_it_to_end(skeleton: Skeleton):
+    rec = GestureRecognizer([parse_gesture(TWO_STAGE)])
+    up = _arm_up(skeleton)
+    ev = _feed(rec, [_standing(skeleton)] + [up] * 60)  # "down" never comes: timed out
+    assert [e.phase for e in ev] == ["started", "canceled"]
+
+
 def test_cooldown_blocks_a_restart_right_after_performed(skeleton: Skeleton):
     text = '[gesture]\ncooldown = 1.0\n[[stage]]\nwhen = ["above(r_wrist, head) > 0"]\n'
     rec = GestureRecognizer([parse_gesture(text, default_name="up")])

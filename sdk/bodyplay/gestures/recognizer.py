@@ -5,7 +5,8 @@ steps every gesture's machine:
 
 * idle -> *started* when stage 1's conditions all hold (and the gesture is armed:
   after it ends, stage 1 must stop holding once before it can start again, and the
-  cooldown must have passed);
+  cooldown must have passed; a cancel on a frame where stage 1 does not hold is
+  that stop);
 * a stage completes when its conditions have held for ``hold`` seconds; the next
   stage must then begin within its ``within`` seconds;
 * *performed* when the last stage completes; *canceled* when a stage's conditions
@@ -234,6 +235,15 @@ class GestureRecognizer:
         if phase == "performed":
             m.cooldown_until = t + m.gesture.cooldown
 
+    def _cancel(self, m: _Machine, t: float, frame: FeatureFrame,
+                events: list[GestureEvent]) -> None:
+        """End ``m`` as canceled; armed again at once if stage 1 does not hold on this
+        frame: it has then stopped holding once, so it may start on the next frame
+        that it holds (a one-frame break of a held pose no longer locks the gesture
+        out while the pose goes on)."""
+        self._end(m, t, "canceled", events)
+        m.armed = not self._holds(m, 0, frame)
+
     def _step(self, m: _Machine, t: float, frame: FeatureFrame, events: list[GestureEvent]) -> None:
         g = m.gesture
         if m.held:  # waits for _settle_completed
@@ -248,7 +258,7 @@ class GestureRecognizer:
             m.stage, m.holding_since, m.started_t = 0, t, t
             self._emit(m, t, "started", 0.0, events)
         elif g.timeout is not None and t - m.started_t > g.timeout:
-            self._end(m, t, "canceled", events)
+            self._cancel(m, t, frame, events)
             return
         # Advance through as many stages as this frame completes.
         while m.stage >= 0:
@@ -257,12 +267,12 @@ class GestureRecognizer:
                 if self._holds(m, m.stage, frame):
                     m.holding_since = t
                 elif t - m.last_done_t > st.within:
-                    self._end(m, t, "canceled", events)
+                    self._cancel(m, t, frame, events)
                     return
                 else:
                     return
             elif not self._holds(m, m.stage, frame):
-                self._end(m, t, "canceled", events)
+                self._cancel(m, t, frame, events)
                 return
             if t - m.holding_since < st.hold:
                 return
