@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 import colorshirt_validation as cv
 from _machine import machine
@@ -119,7 +120,7 @@ def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
     assert src.cameras is not None
     cams = src.cameras[: setting.cameras]
     tracker = create_colorshirt_tracker(options, cams, database=db)
-    cpu, wall = [], []
+    cpu, wall, poses = [], [], []
     with src:
         for fs in src:
             empty = json.loads(truth_rows[fs.index])["joints"].get("pelvis") is None
@@ -128,13 +129,14 @@ def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
             frames = FrameSet(fs.frames[: setting.cameras], fs.t, fs.index)
             c0, w0 = time.thread_time(), time.perf_counter()
             if clock is None:
-                tracker.process(frames)
+                r = tracker.process(frames)
             else:
                 with clock.stage("other (tracker.process itself)"):
-                    tracker.process(frames)
+                    r = tracker.process(frames)
             cpu.append(1000 * (time.thread_time() - c0) / setting.cameras)
             wall.append(1000 * (time.perf_counter() - w0) / setting.cameras)
-    return {"cpu": cpu, "wall": wall}
+            poses.append(np.asarray(r.joints, np.float64).copy())
+    return {"cpu": cpu, "wall": wall, "poses": np.array(poses, np.float64)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -147,9 +149,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--db-size", type=int, default=20_000)
     ap.add_argument("--work", default="/work/cache-colorshirt")
+    ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE",
+                    help="a tracker option for this run (repeatable)")
     ap.add_argument("--no-stages", action="store_true",
                     help="no per-stage clock (its wrappers cost about 1%% of the time)")
-    ap.add_argument("--json", help="also write the figures to this JSON file")
+    ap.add_argument("--json", help="also write the figures (and every clip's CPU ms per "
+                    "camera frame, frame by frame) to this JSON file")
+    ap.add_argument("--poses", help="write every frame's joints to this .npz (one array "
+                    "per setting and clip) to check that a speed change left them identical")
+    ap.add_argument("--compare", help="a --poses .npz of another commit: print the largest "
+                    "joint difference of every setting and clip against it")
     args = ap.parse_args(argv)
     if not (cv.MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to time")
@@ -161,23 +170,27 @@ def main(argv: list[str] | None = None) -> int:
     picked = [(i, c) for i, c in enumerate(clips)
               if (args.half == "all" or cv.half_of(c, clips) == args.half)
               and (chosen is None or c.name in chosen)]
-    options = ColorShirtOptions(database_size=args.db_size)
+    options = cv.options_from(args)
     work = Path(args.work)
     dbs: dict[str, Any] = {}
     print(f"# colorshirt speed, half {args.half}, {datetime.date.today()}, {machine()}",
           flush=True)
     out: dict[str, Any] = {}
+    joints: dict[str, NDArray[np.float64]] = {}
     for s in settings:
         clock = None if args.no_stages else StageClock()
         undo = instrument(clock) if clock is not None else (lambda: None)
         cpu: list[float] = []
         wall: list[float] = []
+        per_frame: dict[str, list[float]] = {}
         try:
             for i, clip in picked:
                 folder = cv.capture(work, clip, s.lighting, i, args.seconds)
                 r = run(folder, s, options, cv.database_for(clip, args.db_size, dbs), clock)
                 cpu += r["cpu"]
                 wall += r["wall"]
+                joints[f"{s.name}/{clip.name}"] = r["poses"]
+                per_frame[clip.name] = [round(c, 2) for c in r["cpu"]]
                 print(f"{s.name:15s} {clip.name:48s} CPU median {np.median(r['cpu']):6.1f} ms "
                       f"p90 {np.percentile(r['cpu'], 90):6.1f}  wall median "
                       f"{np.median(r['wall']):6.1f}  first frame {r['cpu'][0]:7.1f} ms CPU",
@@ -187,7 +200,7 @@ def main(argv: list[str] | None = None) -> int:
         row: dict[str, Any] = {
             "frames": len(cpu), "cpu_median": float(np.median(cpu)),
             "cpu_p90": float(np.percentile(cpu, 90)), "wall_median": float(np.median(wall)),
-            "wall_p90": float(np.percentile(wall, 90))}
+            "wall_p90": float(np.percentile(wall, 90)), "cpu_per_frame": per_frame}
         print(f"\n{s.name}: {len(cpu)} camera frames of {len(picked)} clips, from the first "
               f"frame: CPU median {row['cpu_median']:.1f} ms, p90 {row['cpu_p90']:.1f}; wall "
               f"median {row['wall_median']:.1f}, p90 {row['wall_p90']:.1f}")
@@ -201,7 +214,29 @@ def main(argv: list[str] | None = None) -> int:
         out[s.name] = row
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1))
+    if args.poses:
+        np.savez_compressed(args.poses, **joints)
+    if args.compare:
+        print(compare_poses(joints, dict(np.load(args.compare))))
     return 0
+
+
+def compare_poses(new: dict[str, NDArray[np.float64]], old: dict[str, NDArray[np.float64]]
+                  ) -> str:
+    """Per setting and clip in both, the largest joint difference (m) and the frames whose
+    found/lost state differs: 0 and 0 when a change left the poses identical."""
+    lines = []
+    for key in sorted(set(new) & set(old)):
+        a, b = new[key], old[key]
+        if a.shape != b.shape:
+            lines.append(f"{key}: {len(a)} frames against {len(b)}")
+            continue
+        state = int(np.count_nonzero((np.isnan(a) != np.isnan(b)).any(axis=(1, 2))))
+        both = np.isfinite(a) & np.isfinite(b)
+        diff = float(np.max(np.abs(a - b)[both])) if both.any() else 0.0
+        lines.append(f"{key}: max joint difference {diff:.3g} m, joints reported differ on "
+                     f"{state} of {len(a)} frames")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -91,6 +91,36 @@ def patch_stats(ids: NDArray[np.uint8], depth: NDArray[np.float32] | None = None
     return PatchStats(count, c), mean_depth
 
 
+@numba.njit(cache=True, nogil=True)
+def _penalty(dists: NDArray[np.float32], patch: NDArray[np.uint8], color: NDArray[np.int64],
+             strength: np.float32, far: np.float32, n_colors: int
+             ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:  # pragma: no cover - compiled
+    """Per pixel and color, ``strength`` times the least distance to a patch of that
+    color (``far`` with none) and that patch (the first of equal ones; 0 with none):
+    ``dists[j]`` is the distance map of patch ``patch[j]`` of color ``color[j]``."""
+    m, h, w = dists.shape
+    pen = np.empty((h, w, n_colors), np.float32)
+    owner = np.zeros((h, w, n_colors), np.uint8)
+    best = np.empty(n_colors, np.float32)
+    seen = np.zeros(n_colors, np.bool_)
+    for y in range(h):
+        for x in range(w):
+            seen[:] = False
+            for j in range(m):
+                k = color[j]
+                d = dists[j, y, x]
+                if not seen[k]:
+                    seen[k] = True
+                    best[k] = d
+                    owner[y, x, k] = patch[j]
+                elif d < best[k]:
+                    best[k] = d
+                    owner[y, x, k] = patch[j]
+            for k in range(n_colors):
+                pen[y, x, k] = strength * best[k] if seen[k] else far
+    return pen, owner
+
+
 @dataclass(frozen=True, eq=False)
 class RenderedPose:
     """A pose rendered in a crop: patch ids (0 = none), depth, and per-patch stats."""
@@ -118,13 +148,21 @@ class PoseRenderer:
         for p in PATCHES:
             self.patch_node[p.id] = skeleton.node_index(p.bone)
         cidx = patch_color_index()
+        self._last: tuple[NDArray[np.float64], NDArray[np.float32]] | None = None
         self.color_patches: list[list[int]] = [
             [p for p in range(1, NUM_PATCHES + 1) if cidx[p] == k] for k in range(NUM_COLORS)
         ]
 
     def vertices(self, q: NDArray[np.float64]) -> NDArray[np.float32]:
-        """Skinned mesh vertices (V, 3) at pose ``q``."""
-        return self.mesh.pose(self.skeleton, q)
+        """Skinned mesh vertices (V, 3) at pose ``q`` (read-only: the last pose's are
+        kept, as a frame skins its final pose for the render, the gate and the plate)."""
+        last = self._last
+        if last is not None and np.array_equal(last[0], q):
+            return last[1]
+        verts = self.mesh.pose(self.skeleton, q)
+        verts.flags.writeable = False
+        self._last = (np.array(q, np.float64), verts)
+        return verts
 
     def render(self, verts: NDArray[np.float32], camera: Camera, window: CropWindow
                ) -> RenderedPose:
@@ -156,23 +194,17 @@ class PoseRenderer:
         out. The second array (H, W, 10) holds, per pixel and color, the patch id
         (of that color's two) nearest to the pixel, 0 when neither is predicted.
         """
-        h, w = rendered.patches.shape
-        pen = np.full((h, w, NUM_COLORS), _FAR, np.float32)
-        owner = np.zeros((h, w, NUM_COLORS), np.uint8)
+        dists, patch, color = [], [], []
         for k, pats in enumerate(self.color_patches):
-            best = None
             for p in pats:
                 if rendered.stats.count[p] < min_pixels:
                     continue
-                src = np.where(rendered.patches == p, 0, 255).astype(np.uint8)
-                d = cv2.distanceTransform(src, cv2.DIST_L2, 3)
-                if best is None:
-                    best = d
-                    owner[..., k] = p
-                else:
-                    nearer = d < best
-                    owner[..., k] = np.where(nearer, p, owner[..., k])
-                    best = np.minimum(best, d)
-            if best is not None:
-                pen[..., k] = strength * best
+                src = np.not_equal(rendered.patches, p).view(np.uint8)  # 0 on the patch
+                dists.append(cv2.distanceTransform(src, cv2.DIST_L2, 3))
+                patch.append(p)
+                color.append(k)
+        h, w = rendered.patches.shape
+        stack = np.stack(dists) if dists else np.zeros((0, h, w), np.float32)
+        pen, owner = _penalty(stack, np.array(patch, np.uint8), np.array(color, np.int64),
+                              np.float32(strength), np.float32(_FAR), NUM_COLORS)
         return pen, owner

@@ -440,12 +440,13 @@ class ColorShirtTracker:
                 if name != shown:
                     sel.previous[name] = None
             racing = [shown]
+        placed = self._placed(views)  # body-independent: once for all candidates
         for name in racing:
             body = self._bodies[name]
             self._use(body)
             self.diagnostics = {}
             fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name),
-                                 search_one=not judging)
+                                 search_one=not judging, placed=placed)
             if not self._plausible(fit.q, fit.views):
                 sel.previous[name] = None
                 continue
@@ -473,7 +474,7 @@ class ColorShirtTracker:
             # while they are is the best one has
             self.diagnostics = {}
             report = self._estimate([copy.copy(v) for v in views], sel.previous.get(best),
-                                    search_one=True)
+                                    search_one=True, placed=placed)
             if self._plausible(report.q, report.views):
                 return report
         self.diagnostics = judged
@@ -521,18 +522,23 @@ class ColorShirtTracker:
         q_b = self.diagnostics.get("q_blend")
         return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
 
+    def _placed(self, views: list[CameraView]) -> NDArray[np.float64]:
+        """The database's blend placed in the world (the same for every body)."""
+        lead = min(views, key=lambda v: v.distance)
+        return self.placement.place(lead, [v for v in views if v is not lead])
+
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
-                  search_one: bool = True) -> _Fit:
+                  search_one: bool = True, placed: NDArray[np.float64] | None = None
+                  ) -> _Fit:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
 
         ``search_one``: whether a frame that one camera sees gets the arm search
         (``arm_search_one_camera``). The start-up's candidates are judged without
         it: its arms fit every preset's size about equally, and the choice got
-        noisier.
+        noisier. ``placed``: :meth:`_placed` of ``views`` if already known.
         """
         o = self.options
-        lead = min(views, key=lambda v: v.distance)
-        q_b = self.placement.place(lead, [v for v in views if v is not lead])
+        q_b = self._placed(views) if placed is None else placed.copy()
         verts = self.renderer.vertices(q_b)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         observed = [self._work.observed_by_color(self.renderer, v, r)

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import cv2
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -105,6 +106,34 @@ class CameraView:
     """A start candidate's camera state (its white balance) until it is chosen."""
 
 
+@numba.njit(cache=True, nogil=True)
+def _blob_reach(labels: NDArray[np.int32], sel: NDArray[np.bool_], gap: NDArray[np.float32],
+                n: int) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64],
+                                 NDArray[np.int64]]:  # pragma: no cover - compiled
+    """Per label 0..n-1, over its ``sel`` pixels: the least ``gap``, the lowest row and
+    the leftmost and rightmost columns (inf, -1, width, -1 for a label without any)."""
+    h, w = labels.shape
+    nearest = np.full(n, np.inf)
+    bottom = np.full(n, -1, np.int64)
+    left = np.full(n, w, np.int64)
+    right = np.full(n, -1, np.int64)
+    for y in range(h):
+        for x in range(w):
+            if not sel[y, x]:
+                continue
+            b = labels[y, x]
+            g = np.float64(gap[y, x])
+            if g < nearest[b]:
+                nearest[b] = g
+            if y > bottom[b]:
+                bottom[b] = y
+            if x < left[b]:
+                left[b] = x
+            if x > right[b]:
+                right[b] = x
+    return nearest, bottom, left, right
+
+
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
               attach_fraction: float = 0.1,
               sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
@@ -158,19 +187,11 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     if max(reach, sleeve_reach) > 0:
         # each blob's least chessboard distance (the square neighbourhood) to the shirt
         gap = cv2.distanceTransform((labels != main).astype(np.uint8), cv2.DIST_C, 3)
-        ly = np.asarray(labels[sel], np.intp)
-        nearest = np.full(n, np.inf)
-        np.minimum.at(nearest, ly, gap[sel])
+        nearest, bottom, left, right = _blob_reach(labels, sel, gap, n)
         if reach > 0:
             keep |= (nearest <= reach) & (valid | sleeve)
         if sleeve_reach > 0:
             # over the head: above the shirt's top and within its columns
-            py, lx = np.nonzero(sel)
-            bottom = np.full(n, -1)
-            np.maximum.at(bottom, ly, py)
-            left, right = np.full(n, ids.shape[1]), np.full(n, -1)
-            np.minimum.at(left, ly, lx)
-            np.maximum.at(right, ly, lx)
             over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
             # two forearms: two sleeve colors, each more than a few pixels
             two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
@@ -189,8 +210,7 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
                     arm[torso_rows[0]:] = False
                 if arm.any():
                     arm_gap = cv2.distanceTransform((~arm).astype(np.uint8), cv2.DIST_C, 3)
-                    from_arm = np.full(n, np.inf)
-                    np.minimum.at(from_arm, ly, arm_gap[sel])
+                    from_arm = _blob_reach(labels, sel, arm_gap, n)[0]
                     keep |= candidate & (from_arm <= sleeve_reach)
     # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
     bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
