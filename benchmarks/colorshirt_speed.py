@@ -32,6 +32,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 from numpy.typing import NDArray
 
@@ -120,14 +121,14 @@ def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
     assert src.cameras is not None
     cams = src.cameras[: setting.cameras]
     tracker = create_colorshirt_tracker(options, cams, database=db)
-    cpu, wall, poses = [], [], []
+    cpu, wall, proc, poses = [], [], [], []
     with src:
         for fs in src:
             empty = json.loads(truth_rows[fs.index])["joints"].get("pelvis") is None
             if setting.start == "view" and empty:
                 continue
             frames = FrameSet(fs.frames[: setting.cameras], fs.t, fs.index)
-            c0, w0 = time.thread_time(), time.perf_counter()
+            c0, w0, p0 = time.thread_time(), time.perf_counter(), time.process_time()
             if clock is None:
                 r = tracker.process(frames)
             else:
@@ -135,8 +136,9 @@ def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
                     r = tracker.process(frames)
             cpu.append(1000 * (time.thread_time() - c0) / setting.cameras)
             wall.append(1000 * (time.perf_counter() - w0) / setting.cameras)
+            proc.append(1000 * (time.process_time() - p0) / setting.cameras)
             poses.append(np.asarray(r.joints, np.float64).copy())
-    return {"cpu": cpu, "wall": wall, "poses": np.array(poses, np.float64)}
+    return {"cpu": cpu, "wall": wall, "process": proc, "poses": np.array(poses, np.float64)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -151,6 +153,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--work", default="/work/cache-colorshirt")
     ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE",
                     help="a tracker option for this run (repeatable)")
+    ap.add_argument("--cv-threads", type=int, default=-1,
+                    help="cv2.setNumThreads for the run (default: OpenCV's own, one per core)")
     ap.add_argument("--no-stages", action="store_true",
                     help="no per-stage clock (its wrappers cost about 1%% of the time)")
     ap.add_argument("--json", help="also write the figures (and every clip's CPU ms per "
@@ -160,6 +164,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--compare", help="a --poses .npz of another commit: print the largest "
                     "joint difference of every setting and clip against it")
     args = ap.parse_args(argv)
+    if args.cv_threads >= 0:
+        cv2.setNumThreads(args.cv_threads)
     if not (cv.MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to time")
         return 1
@@ -182,6 +188,7 @@ def main(argv: list[str] | None = None) -> int:
         undo = instrument(clock) if clock is not None else (lambda: None)
         cpu: list[float] = []
         wall: list[float] = []
+        proc: list[float] = []
         per_frame: dict[str, list[float]] = {}
         try:
             for i, clip in picked:
@@ -189,6 +196,7 @@ def main(argv: list[str] | None = None) -> int:
                 r = run(folder, s, options, cv.database_for(clip, args.db_size, dbs), clock)
                 cpu += r["cpu"]
                 wall += r["wall"]
+                proc += r["process"]
                 joints[f"{s.name}/{clip.name}"] = r["poses"]
                 per_frame[clip.name] = [round(c, 2) for c in r["cpu"]]
                 print(f"{s.name:15s} {clip.name:48s} CPU median {np.median(r['cpu']):6.1f} ms "
@@ -200,10 +208,12 @@ def main(argv: list[str] | None = None) -> int:
         row: dict[str, Any] = {
             "frames": len(cpu), "cpu_median": float(np.median(cpu)),
             "cpu_p90": float(np.percentile(cpu, 90)), "wall_median": float(np.median(wall)),
-            "wall_p90": float(np.percentile(wall, 90)), "cpu_per_frame": per_frame}
+            "wall_p90": float(np.percentile(wall, 90)),
+            "process_cpu_median": float(np.median(proc)), "cpu_per_frame": per_frame}
         print(f"\n{s.name}: {len(cpu)} camera frames of {len(picked)} clips, from the first "
               f"frame: CPU median {row['cpu_median']:.1f} ms, p90 {row['cpu_p90']:.1f}; wall "
-              f"median {row['wall_median']:.1f}, p90 {row['wall_p90']:.1f}")
+              f"median {row['wall_median']:.1f}, p90 {row['wall_p90']:.1f}; CPU of every thread "
+              f"of the process median {row['process_cpu_median']:.1f}")
         if clock is not None:
             total = sum(clock.totals.values())
             shares = {k: v / total for k, v in sorted(clock.totals.items(), key=lambda kv: -kv[1])}

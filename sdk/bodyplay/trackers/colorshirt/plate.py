@@ -21,10 +21,34 @@ measured on known pixels away from the player.
 from __future__ import annotations
 
 import cv2
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = ["RoomPlate"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.float32],
+           learn: NDArray[np.bool_], rate: np.float32) -> None:  # pragma: no cover - compiled
+    """In place, where ``learn``: the running mean moves towards ``f`` by
+    ``max(1 / (count + 1), rate)`` and the count grows (at most 255); float32 throughout,
+    operation by operation as numpy would."""
+    h, w, c = mean.shape
+    one = np.float32(1.0)
+    for y in range(h):
+        for x in range(w):
+            if not learn[y, x]:
+                continue
+            n = count[y, x]
+            a = one / (np.float32(n) + one)
+            if a < rate:
+                a = rate
+            for k in range(c):
+                m = mean[y, x, k]
+                mean[y, x, k] = m + a * (f[y, x, k] - m)
+            if n < 255:
+                count[y, x] = n + 1
 
 
 class RoomPlate:
@@ -175,9 +199,6 @@ class RoomPlate:
             return
         if person is None:  # an empty-room frame (``everywhere``)
             self._empty = learn if self._empty is None else self._empty | learn
-        count = self._count.astype(np.float32)
-        alpha = np.maximum(1.0 / (count + 1.0), self.rate)[..., None]
-        upd = self._mean + alpha * (f - self._mean)
-        self._mean = np.where(learn[..., None], upd, self._mean).astype(np.float32)
-        self._count = np.where(learn, np.minimum(self._count.astype(np.int32) + 1, 255),
-                               self._count).astype(np.uint8)
+        mean, count = self._mean.copy(), self._count.copy()
+        _learn(mean, count, np.ascontiguousarray(f, np.float32), learn, np.float32(self.rate))
+        self._mean, self._count = mean, count

@@ -12,6 +12,7 @@ balance is refitted (step 5).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numba
@@ -92,7 +93,7 @@ def patch_stats(ids: NDArray[np.uint8], depth: NDArray[np.float32] | None = None
 
 
 @numba.njit(cache=True, nogil=True)
-def _penalty(dists: NDArray[np.float32], patch: NDArray[np.uint8], color: NDArray[np.int64],
+def _penalty(dists: NDArray[Any], patch: NDArray[np.uint8], color: NDArray[np.int64],
              strength: np.float32, far: np.float32, n_colors: int
              ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:  # pragma: no cover - compiled
     """Per pixel and color, ``strength`` times the least distance to a patch of that

@@ -9,7 +9,7 @@ classification (:func:`clean_ids`) and the normalized database query
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import cv2
 import numba
@@ -107,7 +107,7 @@ class CameraView:
 
 
 @numba.njit(cache=True, nogil=True)
-def _blob_reach(labels: NDArray[np.int32], sel: NDArray[np.bool_], gap: NDArray[np.float32],
+def _blob_reach(labels: NDArray[Any], sel: NDArray[np.bool_], gap: NDArray[Any],
                 n: int) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64],
                                  NDArray[np.int64]]:  # pragma: no cover - compiled
     """Per label 0..n-1, over its ``sel`` pixels: the least ``gap``, the lowest row and
