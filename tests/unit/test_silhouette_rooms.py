@@ -213,3 +213,89 @@ def test_options_reject_a_start_area_outside_a_share() -> None:
         SilhouetteOptions(start_area=-0.1)
     with pytest.raises(ConfigError, match="start_area"):
         SilhouetteOptions(start_area=1.5)
+
+
+def _player_in_a_cup(i: int) -> np.ndarray:
+    """A player (red shirt, dark legs) standing still but for one swinging arm, in
+    front of a bright object that fills most of the frame (the ``coffee`` photo's
+    cup): the first frame's GrabCut takes the object with the player, over half the
+    image, so there is no first guess."""
+    img = np.zeros((480, 640, 3), np.uint8)
+    img[:] = (120, 80, 50)  # a wooden table
+    img[20:470, 40:600] = (230, 225, 215)  # the cup, most of the frame
+    img[150:300, 290:350] = (200, 40, 40)  # the still torso
+    img[300:420, 295:345] = (30, 30, 60)  # the still legs
+    y = 150 + 6 * (i % 10)
+    img[y : y + 20, 350:440] = (200, 40, 40)  # one arm swinging up and down
+    return img
+
+
+def test_box_guess_finds_the_figure_inside_the_box_and_nothing_outside() -> None:
+    from bodyplay.trackers.silhouette.background import _small, box_guess, first_guess
+
+    img = _player_in_a_cup(0)
+    assert not first_guess(img, (320, 240)).any()  # the cup and the player: no figure
+    box = np.zeros((240, 320), bool)
+    box[60:215, 120:230] = True  # where a person standing there can be
+    guess = box_guess(_small(img), box)
+    player = np.zeros((240, 320), bool)
+    player[78:208, 150:172] = True  # torso and legs, inside their edges
+    assert guess[player].mean() > 0.9
+    assert not guess[~box].any()
+    assert guess[box & ~player].mean() < 0.5
+
+
+def test_background_guess_in_a_box_holds_the_still_body_where_there_was_no_guess() -> None:
+    # no first guess (the cup): the still torso and legs are "don't care" at best;
+    # the guess made again in the box where the tracker puts the player is resolved
+    # like a first guess, so the still body is the player and the cup beside it is not
+    model = BackgroundModel(BackgroundOptions())
+    for i in range(15):
+        model.apply(_player_in_a_cup(i))
+    assert not model.guessing
+    box = np.zeros((240, 320), bool)
+    box[60:215, 120:230] = True
+    assert model.guess_in(box)
+    assert model.guessing and model.known is not None
+    assert model.known[~box].all()  # outside the box: the room, from the first frame
+    for i in range(15, 40):
+        sil = model.apply(_player_in_a_cup(i))
+    fg = sil.foreground > 0
+    assert fg[80:145, 150:170].mean() > 0.9  # the still torso
+    assert fg[155:205, 152:168].mean() > 0.9  # the still legs
+    assert fg[80:200, 125:140].mean() < 0.1  # the cup beside them, inside the box
+    assert not model.guess_in(box)  # once per start
+
+
+def test_background_guess_in_a_box_is_not_made_over_a_first_guess() -> None:
+    model = BackgroundModel(BackgroundOptions())
+    img = np.full((480, 640, 3), 128, np.uint8)  # a plain wall
+    img[150:420, 290:350] = (200, 40, 40)
+    model.apply(img)
+    assert model.guessing  # GrabCut found the player in the first frame
+    box = np.zeros((240, 320), bool)
+    box[60:215, 120:230] = True
+    assert not model.guess_in(box)
+
+
+def test_person_box_holds_a_standing_person_and_not_the_room_beside(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    tracker = _tracker(silhouette_tree)
+    cam = _camera()
+    ground = np.array([0.0, 0.0, -1.0])  # 4 m in front of the camera
+    box = tracker._person_box(ground, (240, 320), 0.5)
+
+    def at(p: tuple[float, float, float]) -> bool:
+        u, v = (cam.project(np.array([p]), distort=False)[0] + 0.5) * 0.5 - 0.5
+        return bool(box[int(round(v)), int(round(u))])
+
+    assert at((0.0, 1.8, -1.0)) and at((0.0, 0.05, -1.0))  # head and feet
+    assert at((0.7, 1.4, -1.0)) and at((-0.7, 1.4, -1.0))  # hands held out
+    assert not at((1.3, 1.0, -1.0)) and not at((-1.3, 1.0, -1.0))  # the room beside
+    assert not at((0.0, 0.0, 0.0))  # the floor in front of the player's feet
+
+
+def test_options_reject_a_negative_box_guess() -> None:
+    with pytest.raises(ConfigError, match="box_guess"):
+        SilhouetteOptions(box_guess=-0.5)
+    with pytest.raises(ConfigError, match="box_guess"):
+        SilhouetteOptions(box_top=0.0)

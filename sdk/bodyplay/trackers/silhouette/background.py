@@ -168,15 +168,20 @@ def _learn(x, mean, var, still, known, differs, was_diff, protect, learn_after, 
                     var[i, j, c] = max((1 - rate) * var[i, j, c] + rate * e * e, var0)
 
 
+def _small(image: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """The first guess's working copy: short side 120 pixels."""
+    h, w = image.shape[:2]
+    s = min(1.0, 120.0 / min(h, w))
+    return np.asarray(cv2.resize(image, (max(8, int(w * s)), max(8, int(h * s))),
+                                 interpolation=cv2.INTER_AREA), np.uint8)
+
+
 def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.bool_]:
     """Where the player probably is in the first frame, before anything has moved:
     GrabCut (OpenCV) with everything but the image's sides and top as the unknown
     region (a player stands on the floor, away from the edges), run on a small copy;
     returned at ``size`` (width, height)."""
-    h, w = image.shape[:2]
-    s = min(1.0, 120.0 / min(h, w))
-    small = np.asarray(cv2.resize(image, (max(8, int(w * s)), max(8, int(h * s))),
-                                  interpolation=cv2.INTER_AREA), np.uint8)
+    small = _small(image)
     sh, sw = small.shape[:2]
     mx, my, mb = int(0.08 * sw), int(0.04 * sh), int(0.02 * sh)
     mask = np.zeros((sh, sw), np.uint8)
@@ -192,6 +197,38 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
     if guess.mean() > 0.5:  # no figure against a ground: no guess
         return np.zeros(size[::-1], bool)
+    return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
+
+
+def box_guess(small: NDArray[np.uint8], box: NDArray[np.bool_],
+              background: NDArray[np.bool_] | None = None) -> NDArray[np.bool_]:
+    """The first guess again, inside ``box`` only: GrabCut (OpenCV) on ``small`` (the
+    first frame's 120-pixel copy) with everything outside ``box`` (working
+    resolution, where a standing person at the tracker's floor point can be) as sure
+    background and ``background`` (pixels learned as the room since) as probable
+    background; returned at ``box``'s size, empty when GrabCut finds no figure
+    (more than half the box)."""
+    sh, sw = small.shape[:2]
+    size = box.shape[::-1]
+    inside = cv2.resize(box.astype(np.uint8), (sw, sh), interpolation=cv2.INTER_NEAREST) > 0
+    mask = np.full((sh, sw), cv2.GC_BGD, np.uint8)
+    mask[inside] = cv2.GC_PR_FGD
+    if background is not None:
+        bg = cv2.resize(background.astype(np.uint8), (sw, sh), interpolation=cv2.INTER_AREA)
+        mask[inside & (bg > 0)] = cv2.GC_PR_BGD
+    if not inside.any() or inside.all():
+        return np.zeros(box.shape, bool)
+    bgd = np.zeros((1, 65), np.float64)
+    fgd = np.zeros((1, 65), np.float64)
+    cv2.setRNGSeed(0)
+    try:
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, None, bgd, fgd, 3,
+                    cv2.GC_INIT_WITH_MASK)
+    except cv2.error:
+        return np.zeros(box.shape, bool)
+    guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
+    if guess.sum() > 0.5 * inside.sum():
+        return np.zeros(box.shape, bool)
     return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
 
 
@@ -239,6 +276,8 @@ class BackgroundModel:
         self._x: NDArray[np.float32] | None = None
         self._first: NDArray[np.float32] | None = None
         self._learned_at: NDArray[np.int32] = np.zeros((0, 0), np.int32)
+        self._small: NDArray[np.uint8] | None = None
+        self.reguessed = False
 
     @property
     def frames(self) -> int:
@@ -293,6 +332,43 @@ class BackgroundModel:
         if self.player is not None:
             self.player |= back  # probably the player, as in the first guess
 
+    def guess_in(self, box: NDArray[np.bool_]) -> bool:
+        """The first frame's guess of the player made again, inside ``box`` (working
+        resolution: where a person standing at the tracker's floor point can be),
+        when the first one gave nothing or was dropped (:func:`box_guess`). Pixels
+        learned since the start inside the new guess are unknown again (their first
+        values back), those outside it known; the guess is then resolved like a
+        first guess. Once per start; returns whether there is a new guess."""
+        if (self.reguessed or self._resolving or self._small is None or self._first is None
+                or self.known is None or self._mean is None or self._var is None
+                or not self.options.resolve_every):
+            return False
+        if box.shape != self.known.shape:
+            raise CaptureError(f"guess box is {box.shape[::-1]}, the model works at "
+                               f"{self.known.shape[::-1]}")
+        self.reguessed = True
+        guess = box_guess(self._small, box, self.known)
+        if not guess.any():  # no figure in the box either: the box itself, resolved later
+            guess = box.copy()
+        if not guess.any():
+            return False
+        r = self.options.guess_margin
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1,) * 2)
+        near = cv2.dilate(guess.astype(np.uint8), k) > 0
+        back = near & self.known  # learned since the start: the player's still body
+        self._mean[back] = self._first[back]
+        self._var[back] = self.options.min_std ** 2
+        self._was_diff &= ~near
+        self.known = ~near | (self.known & ~near)
+        self.occupied = guess
+        self._learned_at[:] = -1
+        self._stirred[:] = False
+        self.held = None
+        self.player = None
+        self._ghost = np.zeros((0, 0), bool)
+        self._resolving = True
+        return True
+
     def _prepare(self, image: NDArray[np.uint8]) -> NDArray[np.float32]:
         if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
             raise CaptureError(f"background model needs (H, W, 3) uint8 RGB frames, got "
@@ -328,6 +404,7 @@ class BackgroundModel:
             self._stirred = np.zeros(x.shape[:2], bool)
             self.player = None
             self._first = x.copy()
+            self._small = _small(image)
             self._learned_at = np.full(x.shape[:2], -1, np.int32)
             # without a first guess there is nothing to resolve: unknown stays "don't care"
             self._resolving = bool(o.resolve_every and self.occupied.any())

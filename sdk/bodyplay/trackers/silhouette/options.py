@@ -283,6 +283,11 @@ class SilhouetteOptions:
     that many frames of the distance at which the templates fit what moves best
     (:mod:`.shapestart`; 0: off, wait for a whole person to move), kept until a
     floor point is seen;
+    ``box_guess``: at that moment, when there is no first guess, the first frame's
+    guess is made again inside the box a person standing at that floor point can
+    fill (``box_guess`` m either side of the line of sight, from under the floor to
+    ``box_top`` m; :meth:`.background.BackgroundModel.guess_in`), and resolved like a
+    first guess (0: off);
     ``cache``: hierarchy cache folder.
     """
 
@@ -335,6 +340,9 @@ class SilhouetteOptions:
     stance_deadband: float = 0.04
     shape_frames: int = 5
     start_area: float = 0.75
+    box_guess: float = 0.9
+    box_top: float = 2.3
+    box_below: float = 0.0
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -348,6 +356,8 @@ class SilhouetteOptions:
         if not 0 <= self.start_area <= 1:
             raise ConfigError(f"start_area must be a share of the smallest template's area in "
                               f"[0, 1] (0: off), got {self.start_area!r}")
+        if self.box_guess < 0 or self.box_top <= 0:
+            raise ConfigError("box_guess must be >= 0 metres (0: off) and box_top > 0 metres")
         if self.shape_frames < 0:
             raise ConfigError("shape_frames must be >= 0 (0: no start from the shape)")
         if self.head_min_lever <= 0:
