@@ -278,11 +278,12 @@ def test_background_guess_in_a_box_is_not_made_over_a_first_guess() -> None:
     assert not model.guess_in(box)
 
 
-def test_person_box_holds_a_standing_person_and_not_the_room_beside(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
-    tracker = _tracker(silhouette_tree)
+def test_person_box_holds_a_standing_person_and_not_the_room_beside() -> None:
+    from bodyplay.trackers.silhouette.window import person_box
+
     cam = _camera()
     ground = np.array([0.0, 0.0, -1.0])  # 4 m in front of the camera
-    box = tracker._person_box(ground, (240, 320), 0.5)
+    box = person_box(cam, ground, (240, 320), 0.5, 0.9, 0.0, 2.3)
 
     def at(p: tuple[float, float, float]) -> bool:
         u, v = (cam.project(np.array([p]), distort=False)[0] + 0.5) * 0.5 - 0.5

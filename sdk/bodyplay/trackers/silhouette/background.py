@@ -66,7 +66,11 @@ and beside what has moved since the start (each column from its highest moved
 pixel down to the image's bottom, widened: :attr:`BackgroundModel.held`) from
 being learned, for at most ``hold_guess`` frames, like the guess; they stay "don't
 care", and the tracker finds how far the player stands from the shape of what
-moves (:mod:`.shapestart`).
+moves (:mod:`.shapestart`). Once it knows, it makes the first guess again inside
+the box a person standing there can fill (:meth:`BackgroundModel.guess_in`,
+:func:`box_guess`: GrabCut on the first frame with the rest of the image as sure
+background, or the box itself when GrabCut finds no figure in it either), and
+that guess is resolved like a first guess.
 """
 
 from __future__ import annotations
@@ -222,7 +226,7 @@ def box_guess(small: NDArray[np.uint8], box: NDArray[np.bool_],
     fgd = np.zeros((1, 65), np.float64)
     cv2.setRNGSeed(0)
     try:
-        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, None, bgd, fgd, 3,
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (0, 0, 1, 1), bgd, fgd, 3,
                     cv2.GC_INIT_WITH_MASK)
     except cv2.error:
         return np.zeros(box.shape, bool)
@@ -249,7 +253,10 @@ def _below(stirred: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
 
 
 class BackgroundModel:
-    """The running per-pixel Gaussian background model (see the module docstring)."""
+    """The running per-pixel Gaussian background model (see the module docstring).
+
+    ``reguessed``: whether :meth:`guess_in` has been asked since the start (it is
+    made once per start)."""
 
     def __init__(self, options: BackgroundOptions | None = None) -> None:
         self.options = options or BackgroundOptions()

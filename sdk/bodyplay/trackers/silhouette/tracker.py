@@ -22,7 +22,9 @@ When there is no first-frame guess of the player (GrabCut took a cup with the
 player) and what moves is not a whole person (a player who moves only the arms:
 the ray through an elbow meets the floor metres away, or never), the floor
 distance is the one at which the templates fit what moves best (:mod:`.shapestart`,
-median over ``shape_frames`` frames), until a floor point is seen. A start whose
+median over ``shape_frames`` frames), until a floor point is seen; at that
+moment the first frame's guess is made again in the box a person standing there
+can fill (``box_guess``, :meth:`.background.BackgroundModel.guess_in`). A start whose
 track is lost before it has lasted ``restart_within`` s is undone (nothing is
 protected any more, the still body is held again), and the next floor point must
 agree with the templates' distance (``restart_agree``) for ``restart_doubt`` s.
@@ -81,6 +83,7 @@ from bodyplay.trackers.silhouette.window import (
     feet_like,
     floor_point,
     observe,
+    person_box,
     select_person,
 )
 
@@ -374,8 +377,9 @@ class SilhouetteTracker:
                 at = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
                                         sil.scale, self._shape_d)
                 if at is not None:
-                    self.background.guess_in(
-                        self._person_box(at.ground, sil.foreground.shape, sil.scale))
+                    self.background.guess_in(person_box(
+                        self._cam, at.ground, sil.foreground.shape, sil.scale, o.box_guess,
+                        o.box_below, o.box_top))
         assert self._shape_d is not None
         d = self._shape_d
         if seen is not None and abs(seen.distance - d) <= o.restart_agree * d:
@@ -385,29 +389,6 @@ class SilhouetteTracker:
         win = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
                                  sil.scale, self._shape_d)
         return win, win is not None
-
-    def _person_box(self, ground: NDArray[np.float64], shape: tuple[int, ...], scale: float
-                    ) -> NDArray[np.bool_]:
-        """The pixels of the working image (``shape``, ``scale`` times the camera's) a
-        person standing at floor point ``ground`` can fill: the upright rectangle
-        facing the camera, ``box_guess`` m either side of the line of sight, from
-        ``box_below`` m under the floor to ``box_top`` m above it."""
-        o = self.options
-        c = self._cam.center
-        f = np.asarray(ground, np.float64) - c
-        f[1] = 0.0
-        f /= max(float(np.linalg.norm(f)), 1e-9)
-        right = np.cross(np.array([0.0, 1.0, 0.0]), f)
-        corners = np.array([ground + a * o.box_guess * right + np.array([0.0, y, 0.0])
-                            for a, y in ((-1, -o.box_below), (1, -o.box_below),
-                                         (1, o.box_top), (-1, o.box_top))])
-        box = np.zeros(shape[:2], np.uint8)
-        z = self._cam.world_to_camera(corners)[:, 2]
-        if (z <= 0.05).any():
-            return box > 0
-        uv = (self._cam.project(corners, distort=False) + 0.5) * scale - 0.5
-        cv2.fillConvexPoly(box, np.round(uv).astype(np.int32), 1)
-        return box > 0
 
     def _plausible(self, win: ObservedWindow) -> bool:
         """A person: at least ``min_height`` tall, not wider than the window, standing

@@ -30,7 +30,7 @@ from bodyplay.capture.camera import Camera
 from bodyplay.trackers.silhouette.options import LEVEL_SIZES
 
 __all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow", "select_person",
-           "feet_like", "farthest_person", "window_at", "sight_direction"]
+           "feet_like", "farthest_person", "window_at", "sight_direction", "person_box"]
 
 _DOWN = np.array([0.0, -1.0, 0.0])
 
@@ -279,3 +279,26 @@ def sight_direction(camera: Camera, u: float) -> NDArray[np.float64] | None:
     off[1] = 0.0
     n = float(np.linalg.norm(off))
     return off / n if n > 1e-9 else None
+
+
+def person_box(camera: Camera, ground: NDArray[np.float64], shape: tuple[int, ...],
+               scale: float, half_width: float, below: float, top: float
+               ) -> NDArray[np.bool_]:
+    """The pixels of a working image (``shape``, ``scale`` times ``camera``'s image,
+    undistorted) that a person standing at floor point ``ground`` can fill: the
+    upright rectangle facing the camera, ``half_width`` m either side of the line of
+    sight through ``ground``, from ``below`` m under the floor to ``top`` m above it
+    (empty when a corner lies behind the camera)."""
+    c = camera.center
+    f = np.asarray(ground, np.float64) - c
+    f[1] = 0.0
+    f /= max(float(np.linalg.norm(f)), 1e-9)
+    right = np.cross(np.array([0.0, 1.0, 0.0]), f)
+    corners = np.array([ground + a * half_width * right + np.array([0.0, y, 0.0])
+                        for a, y in ((-1, -below), (1, -below), (1, top), (-1, top))])
+    box = np.zeros(shape[:2], np.uint8)
+    if (camera.world_to_camera(corners)[:, 2] <= 0.05).any():
+        return box > 0
+    uv = (camera.project(corners, distort=False) + 0.5) * scale - 0.5
+    cv2.fillConvexPoly(box, np.round(uv).astype(np.int32), 1)
+    return box > 0
