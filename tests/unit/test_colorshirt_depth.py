@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bodyplay.trackers.colorshirt.depth import RootDepthFilter, RootRay
+from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 
 
 def _standing(depth: float = 3.0, frames: int = 30, scale: float = 1.0,
@@ -129,69 +129,3 @@ def test_depth_filter_stops_when_two_cameras_see_the_shirt_and_waits_when_none_d
     assert f.std() is None
     f.begin(1, 1.3, None)
     assert f.posterior(None) is None  # another camera starts afresh
-
-
-def _ray(depth: float, root_height: float, camera_height: float = 1.2) -> RootRay:
-    """The ray through a root ``root_height`` above the floor at ``depth``."""
-    return RootRay(camera_height, (root_height - camera_height) / depth)
-
-
-def test_the_stance_tells_a_small_players_depth_without_the_feet() -> None:
-    # a player 7% smaller than the reference body stands 3 m away, feet never seen:
-    # the shirt alone reads her 7% further; the root's height on its ray (the
-    # camera's height is the ruler) tells her size
-    h0, s, depth = 0.93, 0.93, 3.0
-    shirt_only = RootDepthFilter(shirt_bias=0.0)
-    both = RootDepthFilter(shirt_bias=0.0, standing_height=h0)
-    for k in range(90):
-        for f in (shirt_only, both):
-            f.begin(0, k / 30, None)
-            f.end(k / 30, depth / s, _ray(depth, s * h0))
-    far = shirt_only.posterior(depth / s)
-    post = both.posterior(depth / s, _ray(depth, s * h0))
-    assert far is not None and post is not None
-    assert far[0] - depth > 0.2  # the size unknown: 7% too far
-    assert abs(post[0] - depth) < 0.08 and abs(post[0] - depth) < 2 * post[1]
-    assert both.scale()[0] == pytest.approx(s, abs=0.03)
-
-
-def test_floor_readings_of_feet_in_the_air_are_left_out_as_the_root_rises() -> None:
-    h0 = 0.93
-    f = RootDepthFilter(shirt_bias=0.0, standing_height=h0)
-    for k in range(60):  # standing 3 m away, feet on the floor
-        f.begin(0, k / 30, 3.0)
-        f.end(k / 30, 3.0, _ray(3.0, h0))
-    for k, up in enumerate((0.04, 0.09, 0.14, 0.18, 0.14, 0.09, 0.04)):
-        t = 2.0 + k / 30
-        # a hop: the feet read further the higher they are, the root rises with them
-        f.begin(0, t, 3.0 * 1.2 / (1.2 - up))
-        post = f.posterior(3.0, _ray(3.0, h0 + up))
-        assert post is not None and post[0] == pytest.approx(3.0, abs=0.05)
-        if up > 0.1:
-            assert f.airborne and f.rejected
-        f.end(t, 3.0, _ray(3.0, h0 + up))
-
-
-def test_the_feet_and_the_stance_tell_the_players_size_from_the_shirts_own_bias() -> None:
-    # a player 7% smaller than the reference whose shirt also reads 8% small (the
-    # mesh against her torso): the feet fix the depth, the stance the size (up to
-    # her stance, which it cannot tell from her size: the std says so), the
-    # shirt's bias is its own, and the shirt then holds the depth alone
-    h0, s, e = 0.93, 0.93, 0.08
-    f = RootDepthFilter(shirt_bias=0.0, standing_height=h0)
-    for k in range(150):
-        f.begin(0, k / 30, 3.0)
-        f.end(k / 30, 3.0 / (s * (1 + e)), _ray(3.0, s * h0))
-    size, size_std = f.scale()
-    assert abs(size - s) < 2 * size_std < 0.08 and size < 0.97  # nearer 0.93 than 1
-    errors = []
-    for k in range(150, 210):  # the feet vanish, the player walks in at 0.5 m/s
-        t = k / 30
-        depth = 3.0 - 0.5 * (t - 5.0)
-        f.begin(0, t, None)
-        post = f.posterior(depth / (s * (1 + e)), _ray(depth, s * h0))
-        assert post is not None
-        errors.append(abs(post[0] - depth))
-        assert errors[-1] < 2 * post[1]  # the floor's bias (8 cm) is still unknown
-        f.end(t, depth / (s * (1 + e)), _ray(depth, s * h0))
-    assert max(errors[-10:]) < 0.04

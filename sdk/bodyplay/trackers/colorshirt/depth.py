@@ -1,7 +1,6 @@
-"""One camera's root depth over time: one Kalman filter for the feet, the body's size
-and its stance.
+"""One camera's root depth over time: one Kalman filter for the feet and the body's size.
 
-One camera cannot tell a small person near from a tall one far. Three cues tell
+One camera cannot tell a small person near from a tall one far. Two cues tell
 the root's depth ``d`` along the camera's axis, each with a stated noise:
 
 * the **feet on the floor** (:mod:`.floor`): where the lowest pixels of the
@@ -13,41 +12,26 @@ the root's depth ``d`` along the camera's axis, each with a stated noise:
   put the root at the depth where the skeleton's metric lengths project as large as
   the shirt looks. It is always there, noisy (a lean towards the camera reads as
   distance) and biased by the ratio of the player's size to the model's: an 8%
-  larger player reads 8% too near;
-* the **root's height** (the stance): the root lies on the ray through where the
-  fit sees it, whose height at depth ``d`` is ``c_y + r d`` (``c_y`` the camera's
-  height, ``r`` the ray's rise per metre of depth); a player standing on the
-  floor holds it at the legs' length, ``s h0`` for a player ``s`` times the
-  reference body's size (``h0`` its standing pelvis height). The camera's
-  height is the metric ruler here: the cue ties size and depth together
-  without the feet, and tells when the feet leave the floor (the root then
-  stands higher than the legs are long).
+  larger player reads 8% too near.
 
 :class:`RootDepthFilter` combines them in one Kalman filter (filterpy) on
-``[depth, depth speed, body scale, floor bias, stance bias, shirt bias]``. The
-size and the depth are coupled in two of the three readings: the shirt reads
+``[depth, depth speed, body scale, floor bias, shirt bias]``. The shirt reads
 ``d / (s (1 + e))`` (linearized about the state: an extended Kalman filter;
-``e`` is the shirt's own bias per player, beyond the size: the generic mesh
-against the player's torso) and the stance ``c_y + r d = s h0 + b_h``. The
-biases are what no number of readings averages away, so the reported
-uncertainty never falls below them: ``b_f``,
-where the lowest pixel of a foot lies relative to the pelvis in this player's
-stance (toes towards the camera, a bow that moves the pelvis back; prior
-``floor_bias_std``), and ``b_h``, how far this player's root stands from the
-reference body's standing height scaled (knees bent in a boxing stance, the fit
-placing the root's pixel a little off; prior ``stance_bias_std``).
+``s`` the player's size relative to the reference body, ``e`` the shirt's own
+bias per player, beyond the size: the generic mesh against the player's
+torso). The biases are what no number of readings averages away, so the
+reported uncertainty never falls below them: ``b_f``, where the lowest pixel
+of a foot lies relative to the pelvis in this player's stance (toes towards
+the camera, a bow that moves the pelvis back; prior ``floor_bias_std``).
 
-Each reading is left out when its innovation exceeds ``gate`` variances, and
-two are one-sided: feet and a root that leave the floor do so upwards only. A
+Each reading is left out when its innovation exceeds ``gate`` variances, and a
 floor reading further than predicted by more than one standard deviation of
-the innovation is left out (a hop's rising feet passed a symmetric gate a
-little at a time and dragged the depth too far), and so is one at whose
-depth the root would stand higher than the legs are long by more than two
-standard deviations (``air_gate``: the feet are in the air); a stance reading
-that puts the root that high is left out too (a jump), and one far below
-standing (a crouch) by ``gate``. A player who really walks away is followed
-through the shirt's and the stance's readings, or after ``max_rejects`` floor
-readings in a row. Beyond the paper.
+the innovation is left out too (feet that leave the floor read further: a
+hop's rising feet passed a symmetric gate a little at a time and dragged the
+depth too far). A player who really walks away is followed through the
+shirt's readings, or after ``max_rejects`` floor readings in a row. Beyond the
+paper. (A third cue, the root's height on its ray, the *stance*, was an option
+off by default and was removed: docs/colorshirt.md, "Removed".)
 
 Per frame: :meth:`RootDepthFilter.begin` (predict; the feet's floor reading),
 :meth:`RootDepthFilter.posterior` for each candidate fit (its readings folded
@@ -64,45 +48,28 @@ from filterpy.common import Q_discrete_white_noise
 from filterpy.kalman import KalmanFilter
 from numpy.typing import NDArray
 
-__all__ = ["RootDepthFilter", "RootRay"]
+__all__ = ["RootDepthFilter"]
 
-_N = 6
-"""State size: depth, depth speed, scale, floor bias, stance bias, shirt bias."""
-
-
-@dataclass(frozen=True)
-class RootRay:
-    """Where a lone camera sees the root: the height of the ray through it at depth
-    ``d`` is ``height + rise * d`` (world metres above the floor)."""
-
-    height: float
-    """The camera centre's height above the floor (m)."""
-    rise: float
-    """How much the ray rises per metre of depth along the camera's axis."""
+_N = 5
+"""State size: depth, depth speed, scale, floor bias, shirt bias."""
 
 
 @dataclass
 class RootDepthFilter:
-    """Kalman filter on ``[depth, depth speed, body scale, floor bias, stance bias,
-    shirt bias]`` along a lone camera's axis (see the module docstring).
+    """Kalman filter on ``[depth, depth speed, body scale, floor bias, shirt bias]``
+    along a lone camera's axis (see the module docstring).
 
     ``accel``: std of the root's acceleration along the axis (m/s², white noise);
     ``floor_std``: std of a floor reading (m); ``shirt_std``: std of the shirt's
     reading as a fraction of the depth; ``scale_std``: the prior std of the
     player's size relative to the reference body; ``floor_bias_std``: the prior std
-    of the floor readings' common bias (m); ``standing_height``: the reference
-    body's standing root height ``h0`` (m; 0: no stance reading);
-    ``stance_std``, ``stance_bias_std``: a stance reading's std and the prior std
-    of this player's stance bias (m); ``shirt_bias``, ``shirt_bias_std``: the prior
-    mean and std of the shirt's own bias ``e`` (the shirt reads ``d / (s (1 + e))``);
-    ``gate``: squared innovation, in
-    variances, beyond which a reading is left out (``air_gate`` above standing:
-    a stance reading further above, and a floor reading whose depth puts the
-    root further above, mean the feet left the floor); after ``max_rejects`` rejected floor
-    readings in a row the depth restarts from the reading (it, not the
-    prediction, was right), unless the shirt's reading contradicts it too;
-    ``horizon``: seconds without a reading after which the
-    depth lapses (the learned scale and biases stay).
+    of the floor readings' common bias (m); ``shirt_bias``, ``shirt_bias_std``: the
+    prior mean and std of the shirt's own bias ``e`` (the shirt reads
+    ``d / (s (1 + e))``); ``gate``: squared innovation, in variances, beyond which a
+    reading is left out; after ``max_rejects`` rejected floor readings in a row
+    the depth restarts from the reading (it, not the prediction, was right),
+    unless the shirt's reading contradicts it too; ``horizon``: seconds without a
+    reading after which the depth lapses (the learned scale and biases stay).
     """
 
     accel: float = 3.0
@@ -113,10 +80,6 @@ class RootDepthFilter:
     max_rejects: int = 15
     horizon: float = 1.0
     floor_bias_std: float = 0.08
-    standing_height: float = 0.0
-    stance_std: float = 0.04
-    air_gate: float = 4.0
-    stance_bias_std: float = 0.03
     shirt_bias: float = 0.0
     shirt_bias_std: float = 0.05
     camera: int | None = None
@@ -128,8 +91,6 @@ class RootDepthFilter:
     """Time of the last floor reading taken in."""
     rejected: bool = False
     """Whether this frame's floor reading was left out (by the last posterior or end)."""
-    airborne: bool = False
-    """Whether the last posterior or end found the feet off the floor."""
     rejects: dict[str, int] = field(default_factory=lambda: {"floor": 0, "shirt": 0})
     kf: KalmanFilter | None = field(default=None, repr=False)
     _floor: float | None = field(default=None, repr=False)
@@ -139,9 +100,9 @@ class RootDepthFilter:
     """The player's scale and biases (means, covariance), kept across a lapse."""
 
     def __post_init__(self) -> None:
-        self._body = (np.array([1.0, 0.0, 0.0, self.shirt_bias]),
+        self._body = (np.array([1.0, 0.0, self.shirt_bias]),
                       np.diag([self.scale_std**2, self.floor_bias_std**2,
-                               self.stance_bias_std**2, self.shirt_bias_std**2]))
+                               self.shirt_bias_std**2]))
 
     def _keep_body(self) -> None:
         """Remember the state's scale and biases for a restart of the depth."""
@@ -159,7 +120,7 @@ class RootDepthFilter:
     def _from(self, depth: float, J0: NDArray[np.float64], var: float
               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The state of a reading alone: ``depth``, whose dependence on (scale,
-        floor bias, stance bias) is ``J0``, and ``var`` its own variance."""
+        floor bias, shirt bias) is ``J0``, and ``var`` its own variance."""
         assert self._body is not None
         m, C = self._body
         x = np.concatenate([[depth, 0.0], m])
@@ -174,15 +135,15 @@ class RootDepthFilter:
     def _from_floor(self, depth: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The state a floor reading alone gives: ``depth = reading - bias``."""
         assert self._body is not None
-        return self._from(depth - float(self._body[0][1]), np.array([0.0, -1.0, 0.0, 0.0]),
+        return self._from(depth - float(self._body[0][1]), np.array([0.0, -1.0, 0.0]),
                           self.floor_std**2)
 
     def _from_shirt(self, reading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The state the shirt's reading alone gives: ``depth = reading * s (1 + e)``."""
         assert self._body is not None
-        s, e = float(self._body[0][0]), float(self._body[0][3])
+        s, e = float(self._body[0][0]), float(self._body[0][2])
         depth = reading * s * (1 + e)
-        return self._from(depth, np.array([reading * (1 + e), 0.0, 0.0, reading * s]),
+        return self._from(depth, np.array([reading * (1 + e), 0.0, reading * s]),
                           (self.shirt_std * depth) ** 2)
 
     def feet_known(self) -> bool:
@@ -213,7 +174,7 @@ class RootDepthFilter:
         the root, m; None: no reading), folded in with the fit's readings. Two or
         more cameras see depth themselves: the depth is then forgotten; no camera:
         nothing changes."""
-        self.rejected = self.airborne = False
+        self.rejected = False
         self._floor = None
         if cameras_seeing == 0:
             return
@@ -249,59 +210,28 @@ class RootDepthFilter:
         I_KH = np.eye(_N) - np.outer(K, H)
         return x + K * y, I_KH @ P @ I_KH.T + R * np.outer(K, K)
 
-    def _stance_innovation(self, x: NDArray[np.float64], P: NDArray[np.float64],
-                           ray: RootRay, depth: float | None = None
-                           ) -> tuple[NDArray[np.float64], float, float]:
-        """H, innovation and its variance of the stance reading: the ray's height at
-        the state's depth (or at ``depth``) minus ``s h0 + b_h``."""
-        h0 = self.standing_height
-        H = np.array([-ray.rise, 0.0, h0, 0.0, 1.0, 0.0])
-        d = float(x[0]) if depth is None else depth
-        y = ray.height + ray.rise * d - (h0 * float(x[2]) + float(x[4]))
-        if depth is not None:
-            H = H.copy()
-            H[0] = 0.0  # the depth is given, not the state's
-        return H, y, float(H @ P @ H) + self.stance_std**2
-
-    def _fold(self, shirt: float | None, ray: RootRay | None
+    def _fold(self, shirt: float | None
               ) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, bool]]:
-        """The state with this frame's floor, stance and shirt readings folded in (not
+        """The state with this frame's floor and shirt readings folded in (not
         committed), and which of them were taken in."""
         assert self.kf is not None
         x, P = self.kf.x.copy(), self.kf.P.copy()
-        took = {"floor": False, "shirt": False, "stance": False, "airborne": False,
-                "floor_rejected": False}
-        stance = ray is not None and self.standing_height > 0 and np.isfinite(ray.rise)
+        took = {"floor": False, "shirt": False, "floor_rejected": False}
         floor = self._floor
         if floor is not None:
-            if stance:
-                assert ray is not None
-                # at the depth the feet tell, would the root stand higher than the legs
-                # are long? then the feet are off the floor
-                _, y, S = self._stance_innovation(x, P, ray, depth=floor - float(x[3]))
-                if y > 0.0 and y**2 > self.air_gate * S:
-                    took["airborne"] = True
-            H = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])  # the feet read depth + bias
+            H = np.array([1.0, 0.0, 0.0, 1.0, 0.0])  # the feet read depth + bias
             y = floor - float(x[0] + x[3])
             R = self.floor_std**2
             S = float(H @ P @ H) + R
             # feet leaving the floor read further: beyond one std further, left out
-            if not took["airborne"] and y**2 <= (1.0 if y > 0.0 else self.gate) * S:
+            if y**2 <= (1.0 if y > 0.0 else self.gate) * S:
                 x, P = self._update(x, P, H, y, R)
                 took["floor"] = True
             else:
                 took["floor_rejected"] = True
-        if stance:
-            assert ray is not None
-            H, y, S = self._stance_innovation(x, P, ray)
-            if y**2 <= (self.air_gate if y > 0.0 else self.gate) * S:
-                x, P = self._update(x, P, H, y, self.stance_std**2)
-                took["stance"] = True
-            elif y > 0.0:
-                took["airborne"] = True
         if shirt is not None and np.isfinite(shirt) and shirt > 0:
-            d, k = float(x[0]), float(x[2] * (1 + x[5]))  # the shirt reads d / k
-            H = np.array([1.0 / k, 0.0, -d / (k * x[2]), 0.0, 0.0, -d / (k * (1 + x[5]))])
+            d, k = float(x[0]), float(x[2] * (1 + x[4]))  # the shirt reads d / k
+            H = np.array([1.0 / k, 0.0, -d / (k * x[2]), 0.0, -d / (k * (1 + x[4]))])
             R = (self.shirt_std * shirt) ** 2
             y = shirt - d / k
             if y**2 <= self.gate * (float(H @ P @ H) + R):
@@ -309,20 +239,18 @@ class RootDepthFilter:
                 took["shirt"] = True
         return x, P, took
 
-    def posterior(self, shirt: float | None, ray: RootRay | None = None
-                  ) -> tuple[float, float] | None:
+    def posterior(self, shirt: float | None) -> tuple[float, float] | None:
         """Depth and its std once this frame's readings are folded in, without
-        committing them: the shirt's ``shirt`` reading (m, for the reference body's
-        size; None: no reading) and where the fit sees the root (``ray``; None: no
-        stance reading); None when nothing is known. A reading the gate leaves out
-        counts as none."""
+        committing them: the feet's (:meth:`begin`) and the shirt's ``shirt``
+        reading (m, for the reference body's size; None: no reading); None when
+        nothing is known. A reading the gate leaves out counts as none."""
         if self.kf is None:
             if shirt is None or self.camera is None or not (np.isfinite(shirt) and shirt > 0):
                 return None
             x, P = self._from_shirt(shirt)
             return float(x[0]), float(np.sqrt(P[0, 0]))
-        x, P, took = self._fold(shirt, ray)
-        self.rejected, self.airborne = took["floor_rejected"], took["airborne"]
+        x, P, took = self._fold(shirt)
+        self.rejected = took["floor_rejected"]
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
     def _shirt_agrees(self, floor: float, shirt: float | None) -> bool:
@@ -338,7 +266,7 @@ class RootDepthFilter:
         y = float(x[0] - xs[0])
         return y**2 <= self.gate * float(P[0, 0] + Ps[0, 0])
 
-    def end(self, t: float, shirt: float | None, ray: RootRay | None = None) -> None:
+    def end(self, t: float, shirt: float | None) -> None:
         """Commit the reported fit's readings at ``t`` (see :meth:`posterior`)."""
         if self.camera is None:
             return
@@ -349,15 +277,15 @@ class RootDepthFilter:
                 self._start(*self._from_shirt(shirt))
                 self.t = self.t_read = t
             return
-        x, P, took = self._fold(shirt, ray)
-        self.rejected, self.airborne = took["floor_rejected"], took["airborne"]
+        x, P, took = self._fold(shirt)
+        self.rejected = took["floor_rejected"]
         self.kf.x, self.kf.P = x, P
-        if took["floor"] or took["shirt"] or took["stance"]:
+        if took["floor"] or took["shirt"]:
             self.t_read = t
         if took["floor"]:
             self.t_floor = t
             self.rejects["floor"] = 0
-        elif took["floor_rejected"] and not took["airborne"]:
+        elif took["floor_rejected"]:
             self.rejects["floor"] += 1
             if (self.rejects["floor"] >= self.max_rejects and self._floor is not None
                     and self._shirt_agrees(self._floor, shirt)):

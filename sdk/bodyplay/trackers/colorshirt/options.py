@@ -53,8 +53,7 @@ class ColorShirtOptions:
     * ``floor_cue``: the root's depth from where the feet meet the floor
       (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
       ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
-      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
-      ``stance_cue``: the filter also reads the root's height (off by default).
+      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth.
     * ``head_cue``: the head above the collar anchors the head joint
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
@@ -118,7 +117,6 @@ class ColorShirtOptions:
     shirt_depth_std: float = 0.15
     body_scale_std: float = 0.06
     depth_pin_std: float = 0.01
-    stance_cue: bool = False
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02

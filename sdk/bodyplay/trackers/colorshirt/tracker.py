@@ -55,7 +55,7 @@ from bodyplay.trackers.colorshirt.cues import (
     within_reach,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
-from bodyplay.trackers.colorshirt.depth import RootDepthFilter, RootRay
+from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -172,11 +172,8 @@ class ColorShirtTracker:
         """Time and root position of the last pose reported (for the speed gate)."""
         self._floor = FloorReading()
         o = self.options
-        ref = self._presets.get("m")
-        self._depth = RootDepthFilter(
-            o.depth_accel, o.floor_std, o.shirt_depth_std, o.body_scale_std,
-            standing_height=(ref.skeleton if ref else self._fixed.skeleton).pelvis_height
-            if o.stance_cue else 0.0)
+        self._depth = RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std,
+                                      o.body_scale_std)
         """One camera's root depth (the feet and the body's size over time)."""
         self._lone: int | None = None
         """The camera that alone sees the shirt this frame (None: none or several)."""
@@ -312,8 +309,7 @@ class ColorShirtTracker:
                               self._ever_reported)
         self._ever_reported = True
         if lone is not None:
-            self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")),
-                            cast("RootRay | None", self.diagnostics.get("root_ray")))
+            self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
     # ---- start-up: where the player is ---------------------------------------------
@@ -616,10 +612,8 @@ class ColorShirtTracker:
         cam = self.cameras[index]
         z = float(cam.world_to_camera(q[:3])[2])
         reading = z * self._depth_scale() if z > 0.3 else None
-        ray = RootRay(float(cam.center[1]), float((q[1] - cam.center[1]) / z)) if z > 0.3 else None
         self.diagnostics["shirt_depth"] = reading
-        self.diagnostics["root_ray"] = ray
-        post = self._depth.posterior(reading, ray)
+        post = self._depth.posterior(reading)
         if post is None:
             return q, ()
         depth, std = post
