@@ -209,8 +209,7 @@ def run(args: argparse.Namespace) -> int:
     if getattr(options, "arm_search", False) and found:
         print(f"arm search: arms chosen from the arm library in {arms} of the {found} frame "
               "sets with a pose" + ("" if arms else " (with one camera it starts once the "
-                                                    "body is chosen, unless "
-                                                    "arm_search_one_camera=false)"))
+                                                    "body is chosen)"))
     return 0
 
 

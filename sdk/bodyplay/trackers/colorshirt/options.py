@@ -58,9 +58,8 @@ class ColorShirtOptions:
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
       chamfer (``arm_tau``), blended by ``arm_temperature``, ``arm_shortlist`` per
-      arm to the pairwise stage (:mod:`.armsearch`); ``arm_search_one_camera``: with
-      one camera too, each candidate paying ``arm_depth_pull`` for leaving the
-      blend's depth.
+      arm to the pairwise stage (:mod:`.armsearch`); with one camera each candidate
+      pays ``arm_depth_pull`` for leaving the blend's depth.
     * ``plate_mask``: classify only pixels unlike the learned background plate (it
       replaces MOG2's mask with at most ``plate_mask_alone_cameras`` cameras);
       ``room_plate``: learn the room from what the player uncovers (silhouette grown
@@ -125,7 +124,6 @@ class ColorShirtOptions:
     arm_tau: float = 0.15
     arm_temperature: float = 0.02
     arm_shortlist: int = 24
-    arm_search_one_camera: bool = True
     arm_depth_pull: float = 0.01
     plate_mask: bool = True
     room_plate: bool = True

@@ -465,7 +465,7 @@ class ColorShirtTracker:
             return None
         fit, judged = fits[best]
         o = self.options
-        if judging and len(views) == 1 and o.arm_search and o.arm_search_one_camera:
+        if judging and len(views) == 1 and o.arm_search:
             # the candidates are judged without the arm search; the pose reported
             # while they are is the best one has
             self.diagnostics = {}
@@ -529,9 +529,9 @@ class ColorShirtTracker:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
 
         ``search_one``: whether a frame that one camera sees gets the arm search
-        (``arm_search_one_camera``). The start-up's candidates are judged without
-        it: its arms fit every preset's size about equally, and the choice got
-        noisier. ``placed``: :meth:`_placed` of ``views`` if already known.
+        (with its pull towards the blend's arms). The start-up's candidates are
+        judged without it: its arms fit every preset's size about equally, and the
+        choice got noisier. ``placed``: :meth:`_placed` of ``views`` if already known.
         """
         o = self.options
         q_b = self._placed(views) if placed is None else placed.copy()
@@ -543,7 +543,7 @@ class ColorShirtTracker:
         q_b, root_priors = self._place_root(q_b, anchors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
-        if o.arm_search and (not one or (o.arm_search_one_camera and search_one)):
+        if o.arm_search and (not one or search_one):
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
                 o.arm_tau, o.arm_temperature, o.arm_shortlist,
