@@ -189,19 +189,24 @@ def first_guess(image: NDArray[np.uint8], size: tuple[int, int]) -> NDArray[np.b
     sh, sw = small.shape[:2]
     mx, my, mb = int(0.08 * sw), int(0.04 * sh), int(0.02 * sh)
     mask = np.zeros((sh, sw), np.uint8)
+    guess = _grabcut(small, mask, (mx, my, sw - 2 * mx, sh - my - mb), cv2.GC_INIT_WITH_RECT)
+    if guess is None or guess.mean() > 0.5:  # no figure against a ground: no guess
+        return np.zeros(size[::-1], bool)
+    return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
+
+
+def _grabcut(small: NDArray[np.uint8], mask: NDArray[np.uint8], rect: tuple[int, int, int, int],
+             mode: int) -> NDArray[np.uint8] | None:
+    """OpenCV's GrabCut (3 iterations) on the RGB ``small`` from ``mask`` / ``rect``;
+    the figure (1) and ground (0), or None when OpenCV gives up."""
     bgd = np.zeros((1, 65), np.float64)
     fgd = np.zeros((1, 65), np.float64)
     cv2.setRNGSeed(0)  # GrabCut's clustering draws from OpenCV's RNG: same frame, same guess
     try:
-        rect = (mx, my, sw - 2 * mx, sh - my - mb)
-        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, rect, bgd, fgd, 3,
-                    cv2.GC_INIT_WITH_RECT)
+        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, rect, bgd, fgd, 3, mode)
     except cv2.error:
-        return np.zeros(size[::-1], bool)
-    guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
-    if guess.mean() > 0.5:  # no figure against a ground: no guess
-        return np.zeros(size[::-1], bool)
-    return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
+        return None
+    return ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
 
 
 def box_guess(small: NDArray[np.uint8], box: NDArray[np.bool_],
@@ -222,16 +227,8 @@ def box_guess(small: NDArray[np.uint8], box: NDArray[np.bool_],
         mask[inside & (bg > 0)] = cv2.GC_PR_BGD
     if not inside.any() or inside.all():
         return np.zeros(box.shape, bool)
-    bgd = np.zeros((1, 65), np.float64)
-    fgd = np.zeros((1, 65), np.float64)
-    cv2.setRNGSeed(0)
-    try:
-        cv2.grabCut(cv2.cvtColor(small, cv2.COLOR_RGB2BGR), mask, (0, 0, 1, 1), bgd, fgd, 3,
-                    cv2.GC_INIT_WITH_MASK)
-    except cv2.error:
-        return np.zeros(box.shape, bool)
-    guess = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)).astype(np.uint8)
-    if guess.sum() > 0.5 * inside.sum():
+    guess = _grabcut(small, mask, (0, 0, 1, 1), cv2.GC_INIT_WITH_MASK)
+    if guess is None or guess.sum() > 0.5 * inside.sum():
         return np.zeros(box.shape, bool)
     return np.asarray(cv2.resize(guess, size, interpolation=cv2.INTER_NEAREST), bool)
 
@@ -366,7 +363,7 @@ class BackgroundModel:
         self._mean[back] = self._first[back]
         self._var[back] = self.options.min_std ** 2
         self._was_diff &= ~near
-        self.known = ~near | (self.known & ~near)
+        self.known = ~near
         self.occupied = guess
         self._learned_at[:] = -1
         self._stirred[:] = False
