@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numba
 import numpy as np
 from numpy.typing import NDArray
@@ -195,6 +196,7 @@ class ArmFitter:
         self.margin = margin
         self.debug: list[tuple[object, ...]] | None = None  # set to a list to record fits
         self.view = geometry.template_view(level)
+        self.size = geometry.size(level)
         self.mpp = geometry.mpp(level)
         self.radii = np.array(_RADII) / self.mpp
         self.cols = tuple(np.concatenate([np.arange(3 + 3 * skeleton.node_index(n),
@@ -270,3 +272,41 @@ class ArmFitter:
                 replaced[s] = True
                 gains[s] = gain
         return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
+
+    def refine_reported(self, leaf_pose: NDArray[np.float64], leaf_offset: NDArray[np.float64],
+                        placed: NDArray[np.uint8], shift: tuple[int, int],
+                        cost: NDArray[np.float32], joints: NDArray[np.float64],
+                        pose: NDArray[np.float64], R_align: NDArray[np.float64],
+                        at: NDArray[np.float64]
+                        ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Both arms of a reported pose refined (:meth:`fit`); a replaced arm's joints
+        take the place of the reported ones, hanging from the reported shoulder.
+
+        ``leaf_pose``: the MAP leaf's pose vector (scaled to the body), ``leaf_offset``
+        its anchor offset; ``placed``: its level-3 (320x240) template moved by
+        ``shift``, the fitted position in level-3 pixels; ``cost``: A at this
+        fitter's level; ``joints`` (17, 3) and ``pose``: what the tracker reports
+        otherwise, in the world, turned from the template frame by ``R_align`` and
+        standing at ``at``."""
+        f = 2.0 ** (self.level - 2)
+        sh = (shift[0] * f, shift[1] * f)
+        tmpl = placed
+        if self.level != 2:  # the leaf's own template (level 3) at this level
+            tmpl = (cv2.resize(tmpl.astype(np.float32), self.size, interpolation=cv2.INTER_AREA)
+                    >= 0.5).astype(np.uint8)
+        origin = leaf_pose[0:3] - leaf_offset
+        reference = (joints - at) @ R_align  # the reported joints, template frame
+        fit = self.fit(leaf_pose, origin, tmpl, cost, sh, reference)
+        if not any(fit.replaced):
+            return joints, pose
+        J = (self.skeleton.joint_positions(fit.pose) - origin) @ R_align.T + at
+        joints = joints.copy()
+        pose = pose.copy()
+        for s, side in enumerate("lr"):
+            if fit.replaced[s]:
+                top = JOINT_INDEX[f"{side}_shoulder"]
+                for n in ("elbow", "wrist"):
+                    j = JOINT_INDEX[f"{side}_{n}"]
+                    joints[j] = joints[top] + J[j] - J[top]
+                pose[self.cols[s]] = fit.pose[self.cols[s]]
+        return joints, pose

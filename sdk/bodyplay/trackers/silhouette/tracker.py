@@ -5,18 +5,12 @@ point G and the window (:mod:`.window`) -> distance transforms at the three leve
 (:mod:`.distance`) -> tree-based Bayesian filter over the shape hierarchy
 (:mod:`.treefilter`) -> the MAP leaf's pose, placed at G and turned by the line of
 sight. The estimated body, dilated, keeps the background model from learning the
-player. Body size: the first ``select_frames`` frames with a person, counted from
-the first frame the player moves (``select_motion``; before, the silhouette is only
-the first frame's colour segmentation; ``select_wait`` s for a player who stays
-still), run a filter per body preset; each frame, the head top of each preset's chosen template (the
-highest template row in the window's middle columns, less the mesh's shortfall
-against the preset's stature) is compared with the observed one, or, with
-``head_gap`` > 0 (an option, off by default) and where the room took the
-observed head (its top under ``head_gap`` of the template's head height above its
-shoulders), the shoulder rows (:func:`stature_reading`): the presets within ``stature_tolerance``
-of the best median match are candidates and the one of smallest mean distance
-among them is kept (the distance alone favoured large presets, and differs by a
-few percent between them).
+player. Body size (:mod:`.bodychoice`): the first ``select_frames`` frames with a
+person, counted from the first frame the player moves (``select_motion``; before,
+the silhouette is only the first frame's colour segmentation; ``select_wait`` s for
+a player who stays still), run a filter per body preset, and the preset whose
+template's head top matches the player's stature and fits the silhouette best is
+kept.
 
 When there is no first-frame guess of the player (GrabCut took a cup with the
 player) and what moves is not a whole person (a player who moves only the arms:
@@ -47,8 +41,6 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
-from bodyplay.body.mesh import body_mesh
-from bodyplay.body.shapes import body_shape
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -62,6 +54,7 @@ from bodyplay.trackers.base import (
 )
 from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
+from bodyplay.trackers.silhouette.bodychoice import BodyChoice
 from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
 from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
@@ -72,13 +65,12 @@ from bodyplay.trackers.silhouette.stature import (
     head_top,
     shifted,
     smallest_template_area,
-    stature_reading,
 )
 from bodyplay.trackers.silhouette.stilltrack import TrackMotion
 from bodyplay.trackers.silhouette.treefilter import FilterStep, TreeFilter
 from bodyplay.trackers.silhouette.window import (
     ObservedWindow,
-    _homography,
+    back_project,
     farthest_person,
     feet_like,
     floor_point,
@@ -136,7 +128,7 @@ class SilhouetteTracker:
     @property
     def body_name(self) -> str | None:
         """The body preset in use (None while it is being chosen)."""
-        return self._body
+        return self._choice.chosen
 
     def reset(self) -> None:
         """Forget the background, the posterior, the body choice and the last pose."""
@@ -145,16 +137,14 @@ class SilhouetteTracker:
         names = list(self.tree.bodies) if want == "auto" else [want]
         self._filters = {b: TreeFilter(self.tree, self.tree.bodies[b], self.options)
                          for b in names}
-        self._body: str | None = names[0] if len(names) == 1 else None
-        self._scores: dict[str, list[float]] = {b: [] for b in names}
-        self._tops: dict[str, list[float]] = {b: [] for b in names}
+        self._choice = BodyChoice(names, self.tree, self.geometry, self.options,
+                                  names[0] if len(names) == 1 else None)
         self._moved = False
         self._t: float | None = None
         self._forget_track()
         self._skeletons = {b: Skeleton.from_shape(b) for b in names}
         self._fitters: dict[str, ArmFitter] = {}
         self._maps_now: tuple[DistanceMaps, ...] = ()
-        self._short: dict[str, float] = {}
         self._head = RunningMedian(self.options.head_depth_window)
         self._stance = RunningMedian(self.options.stance_window)
         self._restarted = False
@@ -195,14 +185,12 @@ class SilhouetteTracker:
         protect = self._last.protect if self._last is not None else None
         sil = self.background.apply(image, protect)
         stages["background"] = time.perf_counter() - tic
-        if (self._body is None and not self._moved and self.options.select_motion
+        if (self._choice.chosen is None and not self._moved and self.options.select_motion
                 and self.background.motion >= self.options.select_motion):
             # the player moves for the first time: the body is chosen from here on
             # (until now the silhouette was only the first frame's colour guess)
             self._moved = True
-            for b in self._scores:
-                self._scores[b].clear()
-                self._tops[b].clear()
+            self._choice.clear()
         tic = time.perf_counter()
         keep_for = self.options.depth_window
         self._depths = [(t, d) for t, d in self._depths if frames.t - t <= keep_for]
@@ -310,9 +298,8 @@ class SilhouetteTracker:
         if self.options.body == "auto":  # the body was measured on what was not the player
             self._filters = {b: TreeFilter(self.tree, self.tree.bodies[b], self.options)
                              for b in self.tree.bodies}
-            self._body = None
-            self._scores = {b: [] for b in self._filters}
-            self._tops = {b: [] for b in self._filters}
+            self._choice = BodyChoice(list(self._filters), self.tree, self.geometry,
+                                      self.options)
             self._skeletons = {b: Skeleton.from_shape(b) for b in self._filters}
         rest = (sil.foreground > 0) & ~held
         return select_person(rest.astype(np.uint8), None, stands=stands), None
@@ -456,64 +443,28 @@ class SilhouetteTracker:
                          self.options.max_foot_width)
 
     def _filter_step(self, maps: tuple[object, ...], observed: NDArray[np.uint8]) -> FilterStep:
-        if self._body is not None:
-            return self._filters[self._body].step(maps)  # type: ignore[arg-type]
+        """One filter step: the chosen body's, or while the body is chosen every
+        preset's, each read by the choice (:mod:`.bodychoice`)."""
+        choice = self._choice
+        if choice.chosen is not None:
+            return self._filters[choice.chosen].step(maps)  # type: ignore[arg-type]
         steps = {}
-        o = self.options
-        wide = o.shoulder_width / self.geometry.mpp(2)
         for b, f in self._filters.items():
             steps[b] = f.step(maps)  # type: ignore[arg-type]
-            self._scores[b].append(steps[b].distance)
-            if o.body_cue == "stature":
-                mask = self.tree.bodies[b].runs[2].masks(np.array([steps[b].leaf]))[0]
-                read = stature_reading(observed, mask, steps[b].shift, wide, o.head_gap)
-                if read is not None:  # the mesh's shortfall: its head top is short
-                    self._tops[b].append(read[0] - (self._shortfall(b) if read[1] else 0.0))
-        n = len(next(iter(self._scores.values())))
-        best = self._best_body()
+            choice.add(b, steps[b].distance, observed, steps[b].leaf, steps[b].shift)
+        best = choice.best()
         waited = (not self.options.select_motion or self._moved or (
             self._started is not None and self._t is not None
             and self._t - self._started >= self.options.select_wait))
-        if n >= self.options.select_frames and waited:
-            self._body = best
+        if choice.frames >= self.options.select_frames and waited:
+            choice.chosen = best
             self._filters = {best: self._filters[best]}
             self._skeletons = {best: self._skeletons[best]}
         return steps[best]
 
-    def _shortfall(self, body: str) -> float:
-        """How far (level-3 window pixels) the top of the body's template mesh, standing,
-        lies below the preset's stature: the head top is compared with the player's
-        stature, which the presets are named by, not with the mesh's."""
-        if body not in self._short:
-            sk = self._skeletons[body]
-            top = float(body_mesh(sk).rest_vertices[:, 1].max())
-            self._short[body] = (body_shape(body).height - top) / self.geometry.mpp(2)
-        return self._short[body]
-
-    def _best_body(self) -> str:
-        """The body preset: of those whose chosen templates' head tops match the
-        observed head top (median over the frames so far) within ``stature_tolerance``
-        metres of the best match, the one of smallest mean distance (its MAP leaf's,
-        per frame); with ``body_cue="distance"`` the smallest mean distance alone."""
-        def dist(b: str) -> float:
-            return float(np.mean(self._scores[b] or [np.inf]))
-
-        if self.options.body_cue == "stature" and all(len(v) for v in self._tops.values()):
-            off = {b: abs(float(np.median(v))) * self.geometry.mpp(2)
-                   for b, v in self._tops.items()}
-            best = min(off.values())
-            near = [b for b in off if off[b] <= best + self.options.stature_tolerance]
-            return min(near, key=dist)
-        return min(self._scores, key=dist)
-
-    def _current_body(self) -> str:
-        if self._body is not None:
-            return self._body
-        return self._best_body()
-
     def _result(self, frames: FrameSet, step: FilterStep, win: ObservedWindow, sil: Silhouette,
                 t0: float) -> TrackResult:
-        body = self._current_body()
+        body = self._choice.best()
         tree = self.tree
         sk = self._skeletons[body]
         bt = tree.bodies[body]
@@ -566,7 +517,8 @@ class SilhouetteTracker:
         occl = tree.occluded[step.leaf]
         states: tuple[JointState, ...] = tuple(
             "inferred" if occl[_JOINT_PART[j]] else "tracked" for j in range(NUM_JOINTS))
-        template, protect = self._back_project(leaf_mask, step.shift, win, sil)
+        template, protect = back_project(self._cam, win.views[2], sil, leaf_mask, step.shift,
+                                         self.options.protect_radius)
         extras: dict[str, object] = {
             "silhouette": sil.foreground, "unknown": sil.unknown, "template": template,
             "silhouette_scale": sil.scale, "leaf": step.leaf, "distance": step.distance,
@@ -594,59 +546,20 @@ class SilhouetteTracker:
                      pose: NDArray[np.float64], R_align: NDArray[np.float64],
                      at: NDArray[np.float64], placed: NDArray[np.uint8], ratio: float
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Each arm of the MAP leaf searched on its own (:mod:`.armfit`); a replaced
-        arm's joints take the place of the blended ones. ``placed``: the leaf's level-3
-        template moved by its fitted shift; ``ratio``: the body's pelvis height to the
-        tree's."""
+        """Each arm of the MAP leaf searched on its own (:mod:`.armfit`), with the
+        body's fitter (built on first use). ``placed``: the leaf's level-3 template
+        moved by its fitted shift; ``ratio``: the body's pelvis height to the tree's."""
         fitter = self._fitters.get(body)
         if fitter is None:
             assert self._atlas is not None  # built in __init__ when arm_candidates > 0
             fitter = ArmFitter(self._skeletons[body], self.geometry, self._atlas,
                                stay=self.options.arm_stay, margin=self.options.arm_margin)
             self._fitters[body] = fitter
-        bt = self.tree.bodies[body]
-        lv = fitter.level
-        f = 2.0 ** (lv - 2)
-        sh = (step.shift[0] * f, step.shift[1] * f)
-        tmpl = placed
-        if lv != 2:  # the leaf's own template (level 3) at the fitter's level
-            w, h = self.geometry.size(lv)
-            tmpl = (cv2.resize(tmpl.astype(np.float32), (w, h), interpolation=cv2.INTER_AREA)
-                    >= 0.5).astype(np.uint8)
-        sk = self._skeletons[body]
         q = self.tree.poses[self.tree.node_pose[2][step.leaf]].copy()
         q[1] *= ratio
-        origin = q[0:3] - bt.offset[step.leaf]
-        reference = (joints - at) @ R_align  # the blended joints, template frame
-        fit = fitter.fit(q, origin, tmpl, self._maps_now[lv].cost, sh, reference)
-        if not any(fit.replaced):
-            return joints, pose
-        J = (sk.joint_positions(fit.pose) - origin) @ R_align.T + at
-        joints = joints.copy()
-        pose = pose.copy()
-        for s, side in enumerate("lr"):
-            if fit.replaced[s]:  # the refined arm hangs from the (blended) shoulder
-                top = JOINT_INDEX[f"{side}_shoulder"]
-                for n in ("elbow", "wrist"):
-                    j = JOINT_INDEX[f"{side}_{n}"]
-                    joints[j] = joints[top] + J[j] - J[top]
-                pose[fitter.cols[s]] = fit.pose[fitter.cols[s]]
-        return joints, pose
-
-    def _back_project(self, mask: NDArray[np.uint8], shift: tuple[int, int],
-                      win: ObservedWindow, sil: Silhouette
-                      ) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
-        """The chosen template (its level-3 mask, moved by ``shift``) in working-image
-        pixels, and it dilated (the pixels the background model must not learn)."""
-        H = _homography(self._cam, win.views[2], sil.scale)
-        h, w = sil.foreground.shape
-        move = np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]], [0.0, 0.0, 1.0]])
-        back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H) @ move, (w, h),
-                                   flags=cv2.INTER_LINEAR) >= 128
-        r = max(2, int(self.options.protect_radius * min(h, w)))
-        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-        protect = cv2.dilate(back.astype(np.uint8), k) > 0
-        return back.astype(np.uint8), protect
+        return fitter.refine_reported(q, self.tree.bodies[body].offset[step.leaf], placed,
+                                      step.shift, self._maps_now[fitter.level].cost,
+                                      joints, pose, R_align, at)
 
     def _absent(self, frames: FrameSet, sil: Silhouette, t0: float,
                 stages: dict[str, float]) -> TrackResult:

@@ -27,9 +27,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
+from bodyplay.trackers.silhouette.background import Silhouette
 from bodyplay.trackers.silhouette.options import LEVEL_SIZES
 
-__all__ = ["WindowGeometry", "anchor_point", "floor_point", "ObservedWindow", "select_person",
+__all__ = ["WindowGeometry", "back_project", "anchor_point", "floor_point", "ObservedWindow",
+           "select_person",
            "feet_like", "farthest_person", "window_at", "sight_direction", "person_box"]
 
 _DOWN = np.array([0.0, -1.0, 0.0])
@@ -302,3 +304,20 @@ def person_box(camera: Camera, ground: NDArray[np.float64], shape: tuple[int, ..
     uv = (camera.project(corners, distort=False) + 0.5) * scale - 0.5
     cv2.fillConvexPoly(box, np.round(uv).astype(np.int32), 1)
     return box > 0
+
+
+def back_project(camera: Camera, view: Camera, silhouette: Silhouette, mask: NDArray[np.uint8],
+                 shift: tuple[int, int], protect_radius: float
+                 ) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
+    """A level-3 template ``mask`` (moved by ``shift`` pixels) in the working image of
+    ``silhouette``, and it dilated by ``protect_radius`` of the image's smaller side:
+    the pixels the background model must not learn while the player stands there."""
+    H = _homography(camera, view, silhouette.scale)
+    h, w = silhouette.foreground.shape
+    move = np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]], [0.0, 0.0, 1.0]])
+    back = cv2.warpPerspective(mask * np.uint8(255), np.linalg.inv(H) @ move, (w, h),
+                               flags=cv2.INTER_LINEAR) >= 128
+    r = max(2, int(protect_radius * min(h, w)))
+    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    protect = cv2.dilate(back.astype(np.uint8), k) > 0
+    return back.astype(np.uint8), protect
