@@ -94,3 +94,13 @@ def test_a_misspelled_command_exits_2_with_usage_and_no_traceback(
     err = capsys.readouterr().err
     assert err.startswith("usage: bodyplay") and "invalid choice: 'evall'" in err
     assert "Traceback" not in err
+
+
+def test_python_dash_m_bodyplay_runs_the_command_line() -> None:
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-m", "bodyplay", "--help"], capture_output=True,
+                          text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "usage: bodyplay" in done.stdout and "track" in done.stdout
