@@ -26,7 +26,7 @@ outline it picks one leaning in depth at random. There each candidate also pays
 ``pull`` per (10 cm)² of mean squared distance of its elbow and wrist from the
 blend's, relative to the neck, so the outline comes from the image and the lean from
 the database (run once the body is chosen). Two cameras see depth: no pull.
-The figures are in docs/colorshirt.md.
+The figures are in docs/colorshirt-history.md, section 13.
 
 This is beyond the paper (which blends whole database poses); it changes only the
 starting point and the blend prior of the IK that follows, not the IK itself.

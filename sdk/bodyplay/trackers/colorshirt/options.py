@@ -19,8 +19,9 @@ __all__ = ["ColorShirtOptions", "options_with_overrides"]
 class ColorShirtOptions:
     """Everything that tunes the color-shirt tracker; defaults follow the paper.
 
-    One line per option here; what each does and why it exists in detail, with
-    the figures that chose the defaults, in docs/colorshirt.md ("Options").
+    One line per option here; what each does in docs/colorshirt.md ("Options"),
+    why it exists, with the figures that chose the defaults, in
+    docs/colorshirt-history.md ("Options in detail").
 
     * ``adaptive_white_balance``: refit ``W`` every frame, keep reference
       illuminations (paper steps 1 and 5); ``pose_prior``: pose-assisted

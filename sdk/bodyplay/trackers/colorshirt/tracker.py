@@ -71,7 +71,7 @@ _ROOT_HEIGHT = (0.3, 1.4)
 camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
 pile of clothes on the floor, 5 m too far) put the root deep under the floor. The top
 is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump (a clothes rail
-near the camera fitted higher; docs/colorshirt.md)."""
+near the camera fitted higher; docs/colorshirt-history.md, section 10)."""
 
 
 _STILL_PATCHES = 8
@@ -97,7 +97,7 @@ patches, low residual), which started the track 1-2 m off."""
 _PLACEMENT_STD = 1.0
 """Metres: how loosely a lone camera's first 6-DOF fit is held at the database
 placement's root (two cameras: 0.3), whose depth, the shirt's extent, reads ~20% far;
-without a hold an under-determined layout runs off (docs/colorshirt.md)."""
+without a hold an under-determined layout runs off (docs/colorshirt-history.md, 10)."""
 
 
 def _torso_length(skeleton: Skeleton) -> float:
@@ -599,7 +599,7 @@ class ColorShirtTracker:
         A rig of several cameras keeps the code before these rules exactly (its
         lone views: the IK from the fit's own depth with the filter's as a prior;
         the hold 3.3 per metre, not 1 / 0.3: a 1% change of that weight moved
-        single two-camera clips by up to 11 cm; docs/colorshirt.md).
+        single two-camera clips by up to 11 cm; docs/colorshirt-history.md, 10).
         """
         placed = q
         index = self._lone

@@ -15,7 +15,7 @@ product (:func:`score_dense`), or, as the paper does, by reading a horizontal
 integral image of A at the ends of each template's horizontal runs
 (:func:`score_runs`, eq. 12). Both give the same numbers; the tracker uses the runs,
 which touch only the contour (about 70 times fewer operations at 240x320; see
-docs/silhouette.md for the measured speeds).
+docs/silhouette-history.md, section 9, for the measured speeds).
 
 Pixels of unknown background (:mod:`.background`) are "don't care": they count as
 silhouette for D(S) (a template may cover them freely) and carry no weight W.

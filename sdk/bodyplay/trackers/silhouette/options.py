@@ -253,7 +253,7 @@ class SilhouetteOptions:
     the room took the head (the silhouette ends at the shoulders), the shoulder rows
     are compared instead (0, the default: the head top always; 0.7 chose the actor's
     preset on 7 of 10 tune-room captures instead of 3, but did not carry over to
-    the report rooms: docs/silhouette.md);
+    the report rooms: docs/silhouette-history.md, section 2);
     ``max_foot_width``/``foot_band``: the first frame's guess of the player counts
     for the floor point only when no row of its lowest ``foot_band`` m is wider,
     filled, than ``max_foot_width`` m (feet and shins; GrabCut can take a dark treadmill
@@ -275,7 +275,7 @@ class SilhouetteOptions:
     ``stance_deadband`` the metres taken off each frame's offset (a couple of
     pixels of segmentation at the feet read as a stance; the nine tune captures
     11.6 / 18.9 / 11.1 cm median / worst / mean of clip medians, 10.5 / 18.7 / 10.4
-    with the cue and no dead band, 10.7 / 18.4 / 10.2 with 0.04 m; docs/silhouette.md);
+    with the cue and no dead band, 10.7 / 18.4 / 10.2 with 0.04 m; docs/silhouette-history.md, 8);
     ``shape_frames``: when there is no first-frame guess of the player (GrabCut
     found no figure, or the guess was dropped) and the silhouette does not stand on
     the floor as a person (the arms of a player who stands still), the floor
