@@ -104,7 +104,17 @@ def test_silhouette_hierarchy_also_learns_the_ninja_motions(tmp_path):
     wrist = clip.joints()[:, 10, 1]
     peaks = np.sort(wrist[1:-1][(wrist[1:-1] >= wrist[:-2]) & (wrist[1:-1] > wrist[2:])])
     assert peaks[-1] - peaks[-12] > 0.02
-    assert NinjaGame().tracker_options("colorshirt") is None
+    assert NinjaGame().tracker_options("other") is None
+
+
+def test_ninja_holds_the_colour_shirts_trunk_turn_with_one_camera() -> None:
+    from apps.ninja.game.game import NINJA_TURN_STD
+
+    from bodyplay.trackers.colorshirt import ColorShirtOptions
+
+    opts = NinjaGame().tracker_options("colorshirt")
+    assert opts.turn_std == NINJA_TURN_STD > 0  # the ninja faces the camera
+    assert ColorShirtOptions().turn_std == 0.0  # the tracker's default holds it loosely
 
 
 @pytest.mark.gl

@@ -151,3 +151,26 @@ def test_global_fit_without_a_position_prior_reads_the_depth_from_the_layout() -
     assert held - true > 0.05  # the 0.3 m prior keeps part of the wrong depth
     assert abs(free - true) < 0.02  # the torso's layout alone tells it
     assert abs(loose - true) < 0.03
+
+
+def _turn(q: np.ndarray) -> float:
+    """The shoulders' turn about the vertical (rad; 0: square to the cameras)."""
+    j = SK.joint_positions(q)
+    v = j[5] - j[8]
+    return float(np.arctan2(-v[2], v[0]))
+
+
+def test_turn_std_holds_the_trunks_turn_that_one_camera_barely_sees() -> None:
+    cam = _cams()[:1]
+    sol = KinematicSolver(SK, cam)
+    q_start = SK.pose(root=(0.0, 0.95, 0.0))
+    q_true = SK.pose(root=(0.0, 0.95, 0.0), orientation=(0, 0.4, 0))
+    a = _anchors(sol, q_start, q_true)
+    free = sol.solve_global(q_start, a)
+    held = sol.solve_global(q_start, a, turn_std=0.02)
+    assert abs(_turn(free)) > 0.2  # loosely held (0.3 rad), the fit follows the anchors
+    assert abs(_turn(held)) < 0.05  # held, it keeps the start's turn
+    ik_free = sol.solve_ik(q_start, a, default_prior_model(), None)
+    ik_held = sol.solve_ik(q_start, a, default_prior_model(), None, turn_std=0.02)
+    assert abs(_turn(ik_held)) < abs(_turn(ik_free)) - 0.1
+    assert np.array_equal(sol.solve_global(q_start, a, turn_std=None), free)

@@ -48,6 +48,10 @@ seconds of the empty room (the paper's background model is learned from the empt
 room; from the first frame in view the background model keeps the player's copy and
 the tracker starts in a crouched pose, docs/ninja.md)."""
 
+NINJA_TURN_STD = 0.1
+"""Radians: how tightly the colour shirt, with one camera, holds the trunk's turn at
+the database blend's (``ColorShirtOptions.turn_std``)."""
+
 
 def check_script(script: list[dict[str, Any]], gestures: list[dict[str, Any]],
                  until: float | None) -> dict[str, Any]:
@@ -123,11 +127,19 @@ class NinjaGame(Game):
 
     def tracker_options(self, tracker: str) -> Any:
         """The silhouette tracker's hierarchy also holds the ninja's five motions (as
-        the paper's game did); other trackers keep their defaults."""
+        the paper's game did). The colour shirt holds the trunk's turn at the
+        database blend's with one camera (``turn_std``): the ninja faces the
+        camera, and one camera alone turned the torso by 20-40 degrees, which
+        made side steps look like steps forwards (docs/ninja.md). Other trackers
+        keep their defaults."""
         if tracker == "silhouette":
             from apps.ninja.game.training import silhouette_options
 
             return silhouette_options()
+        if tracker == "colorshirt":
+            from bodyplay.trackers.colorshirt import ColorShirtOptions
+
+            return ColorShirtOptions(turn_std=NINJA_TURN_STD)
         return None
 
     def setup(self, ctx: GameContext) -> None:

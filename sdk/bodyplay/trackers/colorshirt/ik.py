@@ -54,6 +54,12 @@ IK_NODES: tuple[str, ...] = (
 GLOBAL_DOFS: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
 """Root position and pelvis orientation in the pose vector."""
 
+_TURN = 4
+"""Index of the pelvis's turn (rotation about its own up axis) among the 6-DOF fit's
+parameters (the orientation is a rotation vector in the pelvis's frame)."""
+_TRUNK_TURN = [3 + 3 * IK_NODES.index(n) + 1 for n in ("pelvis", "lumbar", "thorax")]
+"""Indices of the trunk's turns (pelvis, lumbar, thorax) among the IK's parameters."""
+
 
 def ik_dofs() -> NDArray[np.int64]:
     """Indices into the pose vector of the IK's free parameters (root + IK_NODES)."""
@@ -413,7 +419,8 @@ class KinematicSolver:
 
     def solve_global(self, q: NDArray[np.float64], anchors: PatchAnchors,
                      max_nfev: int = 10, root_priors: tuple[RootPrior, ...] = (),
-                     position_std: float | None = None) -> NDArray[np.float64]:
+                     position_std: float | None = None,
+                     turn_std: float | None = None) -> NDArray[np.float64]:
         """6-DOF fit: root position and pelvis orientation; the articulation is kept.
 
         The blend's arms may be wrong, and a rigid fit would then twist the whole
@@ -432,7 +439,10 @@ class KinematicSolver:
         free = np.asarray(GLOBAL_DOFS, dtype=np.int64)
         # the database placement is a fair guess: stds 0.3 m and 0.3 rad
         w = 3.3 if position_std is None else 1.0 / position_std
-        prior = [(qd[free].copy(), np.array([w, w, w, 3.3, 3.3, 3.3]))]
+        inv = np.array([w, w, w, 3.3, 3.3, 3.3])
+        if turn_std is not None:
+            inv[_TURN] = 1.0 / turn_std
+        prior = [(qd[free].copy(), inv)]
         out = self._solve(_Problem(qd, R0, free, anchors, prior, root_priors), max_nfev,
                           limits=False)
         return self._compose_root(out, R0)
@@ -445,6 +455,7 @@ class KinematicSolver:
         q_prev: NDArray[np.float64] | None,
         max_nfev: int = 10,
         root_priors: tuple[RootPrior, ...] = (),
+        turn_std: float | None = None,
     ) -> NDArray[np.float64]:
         """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
 
@@ -460,13 +471,14 @@ class KinematicSolver:
             out[3:6] = matrix_to_rotvec(R0.T @ rotvec_to_matrix(q[3:6]))
             return out
 
-        priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
-        if prior is not None:
-            priors.append((as_delta(q_blend), 1.0 / np.asarray(prior.blend)))
-            if q_prev is not None:
-                priors.append((as_delta(q_prev), 1.0 / np.asarray(prior.previous)))
-        else:
-            priors.append((as_delta(q_blend), np.full(len(free), 0.5)))
+        blend = 1.0 / np.asarray(prior.blend) if prior is not None else np.full(len(free), 0.5)
+        if turn_std is not None:  # the trunk's turn held at the blend's as well: the two
+            blend = blend.copy()  # Gaussian priors on one target make one, inverse stds added
+            blend[_TRUNK_TURN] = np.hypot(blend[_TRUNK_TURN], 1.0 / turn_std)  # in quadrature
+        priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = [
+            (as_delta(q_blend), blend)]
+        if prior is not None and q_prev is not None:
+            priors.append((as_delta(q_prev), 1.0 / np.asarray(prior.previous)))
         out = self._solve(_Problem(qd, R0, free, anchors, priors, root_priors), max_nfev,
                           limits=True)
         return self._compose_root(out, R0)

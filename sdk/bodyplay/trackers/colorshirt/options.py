@@ -54,7 +54,12 @@ class ColorShirtOptions:
     * ``floor_cue``: the root's depth from where the feet meet the floor
       (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
       ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
-      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth.
+      (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
+      ``turn_std`` (rad): how tightly a one-camera rig's fits at the filter's depth
+      hold the trunk's turn about the vertical at the database blend's (0, the
+      default: as loosely as the other rotations, 0.3 rad); one camera sees that
+      turn only to second order (the ninja game, whose player faces the camera,
+      sets 0.1; docs/colorshirt.md).
     * ``head_cue``: the head above the collar anchors the head joint
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
@@ -117,6 +122,7 @@ class ColorShirtOptions:
     shirt_depth_std: float = 0.15
     body_scale_std: float = 0.06
     depth_pin_std: float = 0.01
+    turn_std: float = 0.0
     head_cue: bool = True
     head_offset: float = 0.02
     head_std: float = 0.02
@@ -209,6 +215,7 @@ _RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
     ("shirt_depth_std", 0.001, 1.0, False, ""),
     ("body_scale_std", 0.001, 0.5, False, ""),
     ("depth_pin_std", 0.001, 1.0, False, " m"),
+    ("turn_std", 0.0, 3.2, False, " rad (0: held as loosely as the other rotations)"),
     ("floor_std", 0.005, 1.0, False, " m"),
     ("head_offset", -0.2, 0.2, False, " m"),
     ("head_std", 0.002, 1.0, False, " m"),

@@ -568,7 +568,8 @@ class ColorShirtTracker:
         prior = self.prior if o.pose_prior else None
         prev = prev_q if o.pose_prior else None
         if len(anchors) >= 3:
-            q = self.solver.solve_ik(q_b, anchors, prior, prev, root_priors=root_priors)
+            q = self.solver.solve_ik(q_b, anchors, prior, prev, root_priors=root_priors,
+                                     turn_std=self._turn_std())
         # the final pose's render: the white balance is refitted where it agrees
         verts = self.renderer.vertices(q)
         rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
@@ -627,7 +628,13 @@ class ColorShirtTracker:
             placed = placed.copy()
             placed[:3] = cam.center + (placed[:3] - cam.center) * (depth / z0)
         return self.solver.solve_global(placed, anchors, root_priors=priors,
-                                        position_std=near), priors
+                                        position_std=near, turn_std=self._turn_std()), priors
+
+    def _turn_std(self) -> float | None:
+        """How tightly a one-camera rig's fits at the filter's depth hold the trunk's turn
+        at the blend's (``turn_std``; None: as loosely as the other rotations)."""
+        t = self.options.turn_std
+        return t if len(self.cameras) == 1 and t > 0 else None
 
     def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
                  rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
