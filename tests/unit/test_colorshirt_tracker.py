@@ -454,7 +454,7 @@ def test_one_camera_starts_on_the_region_whose_fit_explains_most_of_the_shirt(
     anchors, then by residual: a moving piece of the shirt (or of clutter) fits 3
     patches with a tiny residual, the player 7-11 with a larger one (the
     validation set's clothes room under coloured light: the piece started the
-    track 1-2 m off). A fit anchoring fewer than ``_START_PATCHES`` never starts.
+    track 1-2 m off). A fit anchoring fewer than ``start.START_PATCHES`` never starts.
     The regions and fits are stand-ins: this specifies the choice, not the image
     work (which the tests above cover)."""
     from types import SimpleNamespace

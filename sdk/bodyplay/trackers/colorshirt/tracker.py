@@ -18,7 +18,6 @@ the tracker never invents a pose.
 from __future__ import annotations
 
 import copy
-import itertools
 import time
 from dataclasses import dataclass
 from typing import cast
@@ -62,6 +61,7 @@ from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
 from bodyplay.trackers.colorshirt.prediction import PoseRenderer, RenderedPose
 from bodyplay.trackers.colorshirt.report import pose_result
+from bodyplay.trackers.colorshirt.start import StartFit, choose_start
 from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["ColorShirtTracker", "CameraView"]
@@ -72,26 +72,6 @@ camera fits the shirt's size at any depth, and a fit of clutter in shirt colours
 pile of clothes on the floor, 5 m too far) put the root deep under the floor. The top
 is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump (a clothes rail
 near the camera fitted higher; docs/colorshirt-history.md, section 10)."""
-
-
-_STILL_PATCHES = 8
-"""Patches of the shirt (of 20) that the fit of a start region nothing was seen to
-move in must anchor for the region to start the track anyway: a player standing
-still facing the camera shows about 10 (the ninja's virtual player waiting for its
-first gesture: 10), while clutter in shirt colours whose fit passes the upright test
-showed 2-5; those regions are held instead (not started on, and not learned by the
-room plates). With several cameras a still region is always held: a start from one
-camera's region is placed by the shirt's size alone."""
-
-_START_PATCHES = 6
-"""Patches of the shirt (of 20) that the fit of any start region must anchor with one
-camera (a still region: :data:`_STILL_PATCHES`), and among the regions that qualify
-the one anchoring the most starts the track: how much of the shirt's layout a fit
-explains tells the player from shirt-coloured clutter, its residual does not (a fit
-of 3 patches reprojects as well as one of 10). A player facing the camera shows 7-11;
-in the clothes room under coloured light the first frames offered the shirt merged
-with the clothes rail behind it (not upright) and a moving piece of it (3-5
-patches, low residual), which started the track 1-2 m off."""
 
 
 _PLACEMENT_STD = 1.0
@@ -354,7 +334,7 @@ class ColorShirtTracker:
         searched with the motion and room masks: what moved, without the still
         clutter around it), and its hypotheses are ranked by how much of the
         shirt's layout their fit explains (patches anchored, at least
-        :data:`_START_PATCHES`), then by residual: in a room full of shirt
+        :data:`.start.START_PATCHES`), then by residual: in a room full of shirt
         colours the unmasked regions merge the player with clutter behind them.
         """
         o = self.options
@@ -367,41 +347,29 @@ class ColorShirtTracker:
         tracked = [] if lone is None else cands[lone]
         moved = {id(v): self._work.moved(self._cams[v.index], v)
                  for i, c in enumerate(cands) if i != lone for v in c}
-        lo, hi = (f * self.skeleton.pelvis_height for f in o.start_root_band)
-        best: tuple[tuple[int, int, int, float], list[CameraView]] | None = None
-        one = len(self.cameras) == 1
+        band = (o.start_root_band[0] * self.skeleton.pelvis_height,
+                o.start_root_band[1] * self.skeleton.pelvis_height)
         saved, self._lone = self._lone, None  # judged without the depth filter
-        self._held = []
-        options: list[list[CameraView | None]] = [
-            [*tracked] or [None] if i == lone else [*c, None] for i, c in enumerate(cands)]
-        for combo in itertools.product(*options):
-            chosen = [v for v in combo if v is not None]
-            still = o.background_subtraction and not all(
-                moved[id(v)] for v in chosen if v.index != lone)
-            if len(chosen) <= len(tracked) or (still and len(chosen) > 1):
-                continue  # nothing added, or a camera saw nothing move there
+
+        def fit(chosen: list[CameraView]) -> StartFit | None:
             self.diagnostics = {}
-            fit = self._estimate([copy.copy(v) for v in chosen], None)
-            if (not np.isfinite(fit.residual) or not lo <= fit.q[1] <= hi
-                    or not self._plausible(fit.q, fit.views)):
-                continue
-            if still and (len(fit.seen) < _STILL_PATCHES or len(self.cameras) > 1):
-                self._held += chosen  # a shirt that fits but never moved: maybe a
-                continue  # player standing still, whom the plates must not learn
-            if one and len(fit.seen) < _START_PATCHES:
-                continue  # too little of the shirt's layout to tell it from clutter
-            key = (int(still), -len(chosen), -len(fit.seen) if one else 0, fit.residual)
-            if best is None or key < best[0]:
-                best = (key, chosen)
+            f = self._estimate([copy.copy(v) for v in chosen], None)
+            if not np.isfinite(f.residual) or not self._plausible(f.q, f.views):
+                return None
+            return f.q, len(f.seen), f.residual
+
+        start = choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
+                             o.background_subtraction)
+        self._held = start.held
         self._lone = saved
         self.diagnostics = {}
-        chosen = tracked if best is None else best[1]
+        chosen = tracked if start.views is None else start.views
         for i, st in enumerate(self._cams):  # a camera whose candidates were all the
             st.located = any(v.index == i for v in chosen)  # room: the plate learns it
         for v in chosen:
             if v.index != lone:
                 self._work.commit(self._cams[v.index], v, confirmed)
-        return chosen, best is not None
+        return chosen, start.views is not None
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> _Fit | None:
