@@ -248,7 +248,7 @@ def test_a_foot_split_by_the_threshold_still_reaches_down_to_its_toes() -> None:
 
 
 def test_within_reach_rejects_a_root_that_crossed_the_room_since_the_last_pose() -> None:
-    from bodyplay.trackers.colorshirt.cues import within_reach
+    from bodyplay.trackers.colorshirt.gates import within_reach
 
     last = (1.0, np.array([0.0, 0.9, 0.0]))
     assert within_reach(None, 1.0, np.array([5.0, 0.9, 0.0]), 2.0)  # nothing reported yet

@@ -33,7 +33,7 @@ from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraState, CameraView
 
 __all__ = ["HEAD_PATCH", "FloorReading", "floor_reading", "head_anchors",
-           "head_from_cue", "join_anchors", "within_reach"]
+           "head_from_cue", "join_anchors"]
 
 HEAD_PATCH = NUM_PATCHES + 1
 """The ``patch`` id of a head anchor (the shirt's patches are 1..20)."""
@@ -61,25 +61,6 @@ class FloorReading:
 
     stagger: float | None = None
     depth: float | None = None
-
-
-def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
-                 root: NDArray[np.float64], max_speed: float) -> bool:
-    """Whether ``root`` at time ``t`` is within reach of the root ``reported`` (time,
-    position) last.
-
-    A person's pelvis does not cross the room between two frames: a fit whose
-    root lies further than ``0.25 m + max_speed * dt`` from the pose reported at
-    most a second ago is a wrong fit (a light switched off, the shirt half
-    unclassified), and the tracker reports the frame lost instead.
-    """
-    if reported is None:
-        return True
-    t_prev, last = reported
-    dt = t - t_prev
-    if dt > 1.0:
-        return True
-    return float(np.linalg.norm(root - last)) <= 0.25 + max_speed * dt
 
 
 def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],

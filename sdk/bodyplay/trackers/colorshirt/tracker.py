@@ -51,10 +51,10 @@ from bodyplay.trackers.colorshirt.cues import (
     floor_reading,
     head_anchors,
     join_anchors,
-    within_reach,
 )
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.depth import RootDepthFilter
+from bodyplay.trackers.colorshirt.gates import SpeedGate, plausible
 from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
@@ -65,14 +65,6 @@ from bodyplay.trackers.colorshirt.start import StartFit, choose_start
 from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["ColorShirtTracker", "CameraView"]
-
-_ROOT_HEIGHT = (0.3, 1.4)
-"""Metres above the floor (world y = 0) where a lone camera's fitted root may be: one
-camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
-pile of clothes on the floor, 5 m too far) put the root deep under the floor. The top
-is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump (a clothes rail
-near the camera fitted higher; docs/colorshirt-history.md, section 10)."""
-
 
 _PLACEMENT_STD = 1.0
 """Metres: how loosely a lone camera's first 6-DOF fit is held at the database
@@ -145,11 +137,9 @@ class ColorShirtTracker:
         self._ever_reported = False
         self._good = False
         """Whether the last pose reported fitted well (``good_residual``)."""
-        self._unreached: tuple[float, NDArray[np.float64]] | None = None
-        """Time and root of the last fit the speed gate rejected."""
         self._last_t: float | None = None
-        self._reported: tuple[float, NDArray[np.float64]] | None = None
-        """Time and root position of the last pose reported (for the speed gate)."""
+        self._gate = SpeedGate(self.options.max_speed, self.options.good_residual)
+        """The last pose reported and the last fit rejected (:mod:`.gates`)."""
         self._floor = FloorReading()
         o = self.options
         self._depth = RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std,
@@ -200,13 +190,14 @@ class ColorShirtTracker:
         for st in self._cams:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
-        confirmed = self._reported is not None
+        confirmed = self._gate.reported is not None
         self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
         if starting:
             views, fresh = self._start_views(frames, confirmed)
             if fresh and self._alone is not None:  # a new hypothesis replaces a lone
-                self._prev = self._reported = self._unreached = None  # camera's track
+                self._prev = None  # camera's track
+                self._gate.clear()
                 if self._selection is not None:
                     self._selection.previous.clear()
         else:
@@ -233,20 +224,7 @@ class ColorShirtTracker:
             fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
-        if fit is not None and not within_reach(self._reported, frames.t, fit.q[:3],
-                                                self.options.max_speed):
-            if (fit.residual <= self.options.good_residual
-                    and self._unreached is not None
-                    and within_reach(self._unreached, frames.t, fit.q[:3],
-                                     self.options.max_speed)):
-                # a good fit that agrees with the last one rejected: the pose
-                # reported before them was the outlier (one wrong fit used to
-                # lock out the right ones for a whole second), take the new track
-                self._reported = None
-            else:
-                self._unreached = (frames.t, fit.q[:3].copy())
-        if fit is not None and not within_reach(self._reported, frames.t, fit.q[:3],
-                                                self.options.max_speed):
+        if fit is not None and not self._gate.admits(frames.t, fit.q[:3], fit.residual):
             # not reported, but the pixels where its render and the classification
             # agree still tell the new illumination (after a light switch this is
             # how W catches up)
@@ -267,13 +245,12 @@ class ColorShirtTracker:
             for v, r in zip(fit.views, fit.rendered, strict=True):
                 self._work.refit_white_balance(self._cams[v.index], v, r)
         self._prev = fit.q
-        self._reported = (frames.t, fit.q[:3].copy())
+        self._gate.report(frames.t, fit.q[:3])
         if (fresh or self._alone is not None) and len(self.cameras) > 1:
             alone = 0 if fresh or self._alone is None else self._alone[1] + 1
             agreed = len(fit.views) > 1 or alone >= self.options.start_agreement_frames
             self._alone = None if agreed else (fit.views[0].index, alone)
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
-        self._unreached = None
         self._good = fit.residual <= self.options.good_residual
         if self._alone is not None:
             # one camera's start in a rig of several: its depth is the shirt's size
@@ -466,25 +443,10 @@ class ColorShirtTracker:
 
     # ---- pose estimation -------------------------------------------------------------
     def _plausible(self, q: NDArray[np.float64], views: list[CameraView]) -> bool:
-        """Whether an estimate can be reported: in front of every camera that saw the
-        shirt, its chest inside that camera's crop, not wildly far from the
-        database placement, and with one camera its root at a person's height. A
-        garbage fit (e.g. right after a light switch) is reported lost rather than as
-        a pose metres away."""
-        if len(views) == 1 and not _ROOT_HEIGHT[0] <= q[1] <= _ROOT_HEIGHT[1]:
-            return False  # one camera: a root under the floor or overhead is a wrong depth
-        chest = self.skeleton.joint_positions(q)[UPPER_BODY.index("chest")]
-        for v in views:
-            cam = self.cameras[v.index]
-            z = float(cam.world_to_camera(chest)[2])
-            if not 0.3 < z < 12.0:
-                return False
-            uv = v.window.to_crop(cam.project(chest, distort=False))
-            if not (-0.25 * v.window.width <= uv[0] <= 1.25 * v.window.width
-                    and -0.25 * v.window.height <= uv[1] <= 1.25 * v.window.height):
-                return False
+        """Whether an estimate of the active body can be reported (:func:`.gates.plausible`)."""
         q_b = self.diagnostics.get("q_blend")
-        return q_b is None or float(np.linalg.norm(q[:3] - np.asarray(q_b)[:3])) < 0.6
+        return plausible(self.skeleton, self.cameras, q, views,
+                         None if q_b is None else np.asarray(q_b))
 
     def _placed(self, views: list[CameraView]) -> NDArray[np.float64]:
         """The database's blend placed in the world (the same for every body)."""
