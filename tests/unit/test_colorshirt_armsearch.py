@@ -168,3 +168,23 @@ def test_color_distance_maps_measure_pixels_to_the_nearest_pixel_of_each_color()
 def test_options_reject_arm_search_settings_out_of_range(field: str, value: float) -> None:
     with pytest.raises(ConfigError, match=field):
         ColorShirtOptions(**{field: value})  # type: ignore[arg-type]
+
+
+def test_image_to_model_distance_is_the_nearest_visible_point_of_the_pixels_color() -> None:
+    from bodyplay.trackers.colorshirt.armsearch import _group_by_color, _nearest_same_color
+
+    rng = np.random.default_rng(5)
+    uv = rng.random((6, 40, 2)) * 50.0
+    vis = rng.random((6, 40)) < 0.5
+    color = rng.integers(0, 10, 40)
+    obs = np.column_stack([rng.random(30) * 50.0, rng.random(30) * 50.0,
+                           rng.integers(0, 10, 30)]).astype(np.float64)
+    tau = 8.0
+    got = _nearest_same_color(uv, vis, *_group_by_color(color), obs, tau)
+    want = np.full((6, 30), tau)
+    for c in range(6):
+        for o in range(30):
+            pts = uv[c][vis[c] & (color == obs[o, 2])]
+            if len(pts):
+                want[c, o] = min(tau, float(np.sqrt(((pts - obs[o, :2]) ** 2).sum(axis=1)).min()))
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)

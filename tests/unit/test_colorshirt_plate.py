@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bodyplay.trackers.colorshirt.plate import RoomPlate
+from bodyplay.trackers.colorshirt.plate import RoomPlate, column_median
 
 H, W = 60, 80
 
@@ -111,3 +111,13 @@ def test_room_plate_never_learns_an_ambiguous_region_as_the_empty_room_until_it_
         plate.learn(None, everywhere=True, ambiguous=person)
     fg = plate.foreground()
     assert fg is not None and not fg[15:50, 30:42].any()
+
+
+def test_column_median_equals_numpys_median_for_odd_and_even_counts() -> None:
+    rng = np.random.default_rng(3)
+    for n in (1, 2, 3, 100, 4799, 4800):
+        x = (rng.random((n, 3)) * 255).astype(np.float32)
+        x[: n // 3] = np.round(x[: n // 3])  # ties, as in integer images
+        got = column_median(x)
+        assert got.dtype == np.float32
+        np.testing.assert_array_equal(got, np.median(x, axis=0))

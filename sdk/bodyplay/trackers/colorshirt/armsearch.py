@@ -479,17 +479,30 @@ def _nearest_same_color(uv: NDArray[np.float64], vis: NDArray[np.bool_],
     color ``k``'s from ``starts[k]`` to ``starts[k + 1]``: a pixel looks only at its
     own color's points (the same minimum as over all points, a fifth of the work)."""
     n_cand = vis.shape[0]
+    n_colors = starts.shape[0] - 1
     out = np.full((n_cand, obs.shape[0]), tau)
+    xs = np.empty(by_color.shape[0])
+    ys = np.empty(by_color.shape[0])
+    first = np.empty(n_colors + 1, np.int64)
     for c in range(n_cand):
+        m = 0  # the candidate's visible points, grouped by color, packed
+        for k in range(n_colors):
+            first[k] = m
+            for j in range(starts[k], starts[k + 1]):
+                i = by_color[j]
+                if vis[c, i]:
+                    xs[m] = uv[c, i, 0]
+                    ys[m] = uv[c, i, 1]
+                    m += 1
+        first[n_colors] = m
         for o in range(obs.shape[0]):
             best = tau * tau
             k = int(obs[o, 2])
-            for j in range(starts[k], starts[k + 1]):
-                i = by_color[j]
-                if not vis[c, i]:
-                    continue
-                dx = uv[c, i, 0] - obs[o, 0]
-                dy = uv[c, i, 1] - obs[o, 1]
+            ox = obs[o, 0]
+            oy = obs[o, 1]
+            for j in range(first[k], first[k + 1]):
+                dx = xs[j] - ox
+                dy = ys[j] - oy
                 d = dx * dx + dy * dy
                 if d < best:
                     best = d

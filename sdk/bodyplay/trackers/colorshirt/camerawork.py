@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.shirt import NUM_COLORS, PATCHES
+from bodyplay.body.skinning import SkinnedMesh
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.anchors import Observed
 from bodyplay.trackers.colorshirt.colors import ColorModel
@@ -126,6 +127,8 @@ class CameraWork:
         self.crossview = (CrossView(len(cameras)) if options.cross_view and len(cameras) > 1
                           else None)
         """The room seen alike by two cameras (None with one camera)."""
+        self._shirt_vertices: tuple[SkinnedMesh, NDArray[np.intp], NDArray[np.intp]] | None = None
+        """The last mesh of :meth:`remember_shirt`, its shirt's and torso's vertex indices."""
 
     def new_states(self) -> list[CameraState]:
         """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
@@ -427,9 +430,13 @@ class CameraWork:
         box of the pose's shirt projected there (not the classified pixels' box,
         which clutter in shirt colors next to the player can grow)."""
         mesh = renderer.mesh
+        cached = self._shirt_vertices
+        if cached is None or cached[0] is not mesh:  # a mesh's indices never change
+            cached = self._shirt_vertices = (
+                mesh, np.unique(mesh.faces[mesh.face_part > 0]),
+                np.unique(mesh.faces[np.isin(mesh.face_part, _TORSO_PATCHES)]))
         every = renderer.vertices(q).astype(np.float64)
-        verts = every[np.unique(mesh.faces[mesh.face_part > 0])]
-        torso = every[np.unique(mesh.faces[np.isin(mesh.face_part, _TORSO_PATCHES)])]
+        verts, torso = every[cached[1]], every[cached[2]]
         for cam, st in zip(self.cameras, states, strict=True):
             st.torso_box = _image_box(cam, torso)
             box = _image_box(cam, verts)

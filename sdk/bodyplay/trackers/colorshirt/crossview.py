@@ -26,6 +26,8 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
+from bodyplay.trackers.colorshirt.plate import column_median
+
 __all__ = ["CrossView"]
 
 Box = tuple[int, int, int, int]
@@ -112,8 +114,8 @@ class CrossView:
                 sa, sb = fa[::4, ::4][valid[::4, ::4]], warped[::4, ::4][valid[::4, ::4]]
                 if len(sa) < 100:
                     continue
-                gain = np.median(sa + 1.0, axis=0) / np.median(sb + 1.0, axis=0)
-                level = float(np.median(sa, axis=0).sum())
+                gain = column_median(sa + 1.0) / column_median(sb + 1.0)
+                level = float(column_median(sa).sum())
                 th = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
                 diff = cv2.transform(cv2.absdiff(fa, warped * gain.astype(np.float32)),
                                      np.ones((1, 3), np.float32))

@@ -25,7 +25,20 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["RoomPlate"]
+__all__ = ["RoomPlate", "column_median"]
+
+
+def column_median(x: NDArray[np.floating]) -> NDArray[np.floating]:
+    """``np.median(x, axis=0)`` of an (N, C) array with N >= 1 and no NaN, the same
+    values (the two middle elements averaged in ``x``'s dtype), several times faster:
+    one partition of the contiguous transpose at the upper middle; the lower middle
+    is the largest element left of it."""
+    n = x.shape[0]
+    h = n // 2
+    part = np.partition(np.ascontiguousarray(x.T), h, axis=1)
+    if n % 2:
+        return part[:, h] / 1
+    return (part[:, :h].max(axis=1) + part[:, h]) / 2
 
 
 @numba.njit(cache=True, nogil=True)
@@ -137,7 +150,7 @@ class RoomPlate:
         if int(np.count_nonzero(sel)) > 100:
             # the median ratio: robust to a player standing where no pose says yet
             ratio = f[::3, ::3][sel] / np.maximum(self._mean[::3, ::3][sel], 1.0)
-            gain = np.clip(np.median(ratio, axis=0), 0.05, 20.0).astype(np.float32)
+            gain = np.clip(column_median(ratio), 0.05, 20.0).astype(np.float32)
             if np.any(np.abs(gain - 1.0) > 0.01):
                 self._mean *= gain
 

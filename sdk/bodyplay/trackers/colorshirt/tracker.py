@@ -80,13 +80,26 @@ def _torso_length(skeleton: Skeleton) -> float:
 
 @dataclass(eq=False)
 class _Fit:
-    """One body's fit of a frame: pose, anchored patches, mean relative residual."""
+    """One body's fit of a frame: pose, anchored patches, mean relative residual, and
+    the renderer and cameras of its body, to render the final pose where needed."""
 
     q: NDArray[np.float64]
     seen: set[int]
     residual: float
     views: list[CameraView]
-    rendered: list[RenderedPose]
+    renderer: PoseRenderer
+    cameras: tuple[Camera, ...]
+    _rendered: list[RenderedPose] | None = None
+
+    @property
+    def rendered(self) -> list[RenderedPose]:
+        """The final pose rendered into each view's crop (rendered on first use: of the
+        start-up's candidates only the one reported refits the white balance)."""
+        if self._rendered is None:
+            verts = self.renderer.vertices(self.q)
+            self._rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
+                              for v in self.views]
+        return self._rendered
 
 
 class ColorShirtTracker:
@@ -500,9 +513,6 @@ class ColorShirtTracker:
         if len(anchors) >= 3:
             q = self.solver.solve_ik(q_b, anchors, prior, prev, root_priors=root_priors,
                                      turn_std=self._turn_std())
-        # the final pose's render: the white balance is refitted where it agrees
-        verts = self.renderer.vertices(q)
-        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
         self.diagnostics["anchors"] = anchors
         # the residual that chooses the body: with two cameras, the last anchors with
@@ -512,7 +522,10 @@ class ColorShirtTracker:
         size_px = np.array([size[int(c)] for c in judged.camera], dtype=np.float64)
         resid = reprojection_residual(self.solver, q, judged, size_px)
         self.diagnostics["residual"] = resid
-        return _Fit(q, {int(p) for p in anchors.patch}, resid, views, rendered)
+        # the final pose's render (:attr:`_Fit.rendered`): the white balance is refitted
+        # where it agrees
+        return _Fit(q, {int(p) for p in anchors.patch}, resid, views, self.renderer,
+                    self.cameras)
 
     def _place_root(self, q: NDArray[np.float64], anchors: PatchAnchors
                     ) -> tuple[NDArray[np.float64], tuple[RootPrior, ...]]:
