@@ -23,6 +23,7 @@ validation set's jumping jacks, 0-6% of the player's pixels a frame).
 from __future__ import annotations
 
 import cv2
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -31,6 +32,24 @@ from bodyplay.trackers.colorshirt.plate import column_median
 __all__ = ["CrossView"]
 
 Box = tuple[int, int, int, int]
+
+
+@numba.njit(cache=True, nogil=True)
+def _alike(fa: NDArray[np.float32], warped: NDArray[np.float32], gain: NDArray[np.float32],
+           threshold: np.float32, same: NDArray[np.bool_]) -> None:  # pragma: no cover
+    """``same |= valid & (sum |fa - warped * gain| < threshold)``, ``valid`` where the
+    warp reached (``warped`` >= 0): float32 operation by operation, the channels
+    summed in order, as numpy and :func:`cv2.transform` did it."""
+    h, w = same.shape
+    for y in range(h):
+        for x in range(w):
+            if warped[y, x, 0] < 0:
+                continue
+            d0 = abs(fa[y, x, 0] - warped[y, x, 0] * gain[0])
+            d1 = abs(fa[y, x, 1] - warped[y, x, 1] * gain[1])
+            d2 = abs(fa[y, x, 2] - warped[y, x, 2] * gain[2])
+            if (d0 + d1) + d2 < threshold:
+                same[y, x] = True
 
 
 class CrossView:
@@ -110,16 +129,14 @@ class CrossView:
                                              flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                                              borderMode=cv2.BORDER_CONSTANT,
                                              borderValue=(-1e4,) * 3)
-                valid = warped[..., 0] >= 0
-                sa, sb = fa[::4, ::4][valid[::4, ::4]], warped[::4, ::4][valid[::4, ::4]]
+                valid = warped[::4, ::4, 0] >= 0
+                sa, sb = fa[::4, ::4][valid], warped[::4, ::4][valid]
                 if len(sa) < 100:
                     continue
                 gain = column_median(sa + 1.0) / column_median(sb + 1.0)
                 level = float(column_median(sa).sum())
                 th = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
-                diff = cv2.transform(cv2.absdiff(fa, warped * gain.astype(np.float32)),
-                                     np.ones((1, 3), np.float32))
-                same |= valid & (diff < th)
+                _alike(fa, warped, gain.astype(np.float32), np.float32(th), same)
             same = cv2.morphologyEx(same.astype(np.uint8), cv2.MORPH_OPEN,
                                     np.ones((3, 3), np.uint8)) > 0
             box = torso[a]
