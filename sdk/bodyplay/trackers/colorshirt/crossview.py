@@ -125,10 +125,9 @@ class CrossView:
                 H = self._H.get((a, b))
                 if H is None:
                     continue
-                warped = cv2.warpPerspective(fb, H, (w, h),
-                                             flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                                             borderMode=cv2.BORDER_CONSTANT,
-                                             borderValue=(-1e4,) * 3)
+                warped = np.asarray(cv2.warpPerspective(
+                    fb, H, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                    borderMode=cv2.BORDER_CONSTANT, borderValue=(-1e4,) * 3), np.float32)
                 valid = warped[::4, ::4, 0] >= 0
                 sa, sb = fa[::4, ::4][valid], warped[::4, ::4][valid]
                 if len(sa) < 100:

@@ -64,6 +64,54 @@ def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.fl
                 count[y, x] = n + 1
 
 
+@numba.njit(cache=True, nogil=True)
+def _stillness(f: NDArray[np.float32], prev: NDArray[np.float32], run: NDArray[np.uint8],
+               count: NDArray[np.uint8], still: np.float32, known_frames: int
+               ) -> tuple[NDArray[np.bool_], NDArray[np.uint8], int, int]:  # pragma: no cover
+    """Per pixel whether its summed R + G + B change from ``prev`` is under ``still``
+    (float32, the channels summed in order, as :func:`cv2.transform` did), the
+    frames in a row it has been still (at most 255), and how many known pixels
+    (``count`` >= ``known_frames``) there are and how many of them moved."""
+    h, w = run.shape
+    is_still = np.empty((h, w), np.bool_)
+    new_run = np.empty((h, w), np.uint8)
+    known = 0
+    moving = 0
+    for y in range(h):
+        for x in range(w):
+            d = (abs(f[y, x, 0] - prev[y, x, 0]) + abs(f[y, x, 1] - prev[y, x, 1])
+                 + abs(f[y, x, 2] - prev[y, x, 2]))
+            s = d < still
+            is_still[y, x] = s
+            r = run[y, x]
+            new_run[y, x] = (r + 1 if r < 255 else 255) if s else 0
+            if count[y, x] >= known_frames:
+                known += 1
+                if not s:
+                    moving += 1
+    return is_still, new_run, known, moving
+
+
+@numba.njit(cache=True, nogil=True)
+def _room(small: NDArray[np.float32], mean: NDArray[np.float32], count: NDArray[np.uint8],
+          known_frames: int, threshold: np.float32, alike: NDArray[np.bool_], use_alike: bool
+          ) -> NDArray[np.uint8]:  # pragma: no cover - compiled
+    """1 where a known pixel's summed R + G + B difference from the plate is at most
+    ``threshold`` (float32, summed in order), or an unknown one is seen alike."""
+    h, w = count.shape
+    out = np.zeros((h, w), np.uint8)
+    for y in range(h):
+        for x in range(w):
+            if count[y, x] >= known_frames:
+                d = (abs(small[y, x, 0] - mean[y, x, 0]) + abs(small[y, x, 1] - mean[y, x, 1])
+                     + abs(small[y, x, 2] - mean[y, x, 2]))
+                if d <= threshold:
+                    out[y, x] = 1
+            elif use_alike and alike[y, x]:
+                out[y, x] = 1
+    return out
+
+
 class RoomPlate:
     """One camera's plate of the room at reduced resolution (see the module docstring).
 
@@ -166,13 +214,14 @@ class RoomPlate:
             return None if self._seen_alike is None else ~self._seen_alike
         level = float(np.sum(cv2.mean(self._mean)[:3]))
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
-        diff = cv2.transform(cv2.absdiff(self._small, self._mean), np.ones((1, 3), np.float32))
-        room = known & (diff <= threshold)
-        if self._seen_alike is not None:  # the other camera's word where the plate has none
-            room |= ~known & self._seen_alike
-        room = cv2.morphologyEx(room.astype(np.uint8), cv2.MORPH_OPEN,
-                                np.ones((3, 3), np.uint8)) > 0
-        return ~room
+        # known pixels alike the plate, and the other camera's word where the plate
+        # has none
+        alike = self._seen_alike
+        assert self._count is not None
+        room = _room(self._small, self._mean, self._count, self.known_frames,
+                     np.float32(threshold), np.zeros((1, 1), np.bool_) if alike is None
+                     else np.ascontiguousarray(alike), alike is not None)
+        return ~(cv2.morphologyEx(room, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)) > 0)
 
     def learn(self, person: NDArray[np.bool_] | None, everywhere: bool = False,
               ambiguous: NDArray[np.bool_] | None = None) -> None:
@@ -188,13 +237,11 @@ class RoomPlate:
         if f is None or prev is None or self._mean is None:
             return
         assert self._count is not None and self._run is not None and self._moved is not None
-        change = cv2.transform(cv2.absdiff(f, prev), np.ones((1, 3), np.float32))
-        still = change < self.still
-        self._run = np.where(still, np.minimum(self._run.astype(np.int32) + 1, 255),
-                             0).astype(np.uint8)
+        still, self._run, known, moving = _stillness(
+            np.ascontiguousarray(f, np.float32), np.ascontiguousarray(prev, np.float32),
+            self._run, self._count, np.float32(self.still), self.known_frames)
         self._prev = f
-        known = self._count >= self.known_frames
-        if float(np.mean(~still[known])) < 0.5 if known.any() else True:
+        if moving / known < 0.5 if known else True:
             # what moves is not the room: a pixel learned while the player stood still
             # (or under a wrong pose) is forgotten as soon as it moves; a change of
             # most of the room at once is the light, not motion
