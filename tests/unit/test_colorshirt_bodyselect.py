@@ -259,3 +259,22 @@ def test_body_selection_halving_keeps_a_candidate_the_tolerance_could_still_choo
     assert strict.active == ["a96", "a100", "a92"] and strict.chosen == "a96"
     assert "a84" in tolerant.active  # 7% above the best: within the tolerance
     assert tolerant.chosen == "a84"  # the shortest arm that fits nearly best
+
+
+def test_once_a_frame_has_judged_an_inactive_reference_body_is_no_longer_fitted(db) -> None:  # type: ignore[no-untyped-def]
+    tr = _choosing(db, 6)  # the worse half drops out after 3 judged frames
+    fitted: list[list[str]] = []
+    estimate = tr._estimate
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        fitted[-1].append(tr.body_name)
+        return estimate(*args, **kwargs)
+
+    tr._estimate = counting  # type: ignore[method-assign]
+    for fs in _capture("xs", 5, webcam_rig()):
+        fitted.append([])
+        assert tr.process(fs).found
+    sel = tr._selection
+    assert sel is not None and sel.chosen is None and "m" not in sel.active
+    assert "m" in fitted[0]  # before any judged frame it may be reported: fitted
+    assert sorted(fitted[-1]) == sorted(sel.active)  # after the halving: the race only

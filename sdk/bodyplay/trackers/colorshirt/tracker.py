@@ -385,15 +385,21 @@ class ColorShirtTracker:
         judging = not (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
                        and (stagger is None or stagger > limit))
         racing = list(sel.active)
-        if self._reference in self._bodies and self._reference not in racing:
-            racing.append(self._reference)  # reported until the choice is made
+        # the reference (the fallback of a choice that cannot judge) is reported
+        # until a frame has judged the candidates; once one has, the best one in
+        # the race is, and the reference is fitted only while in the race (out of
+        # it, its fit was wasted: 1 of the 5 fits of the presets' second half)
+        extra = ([self._reference] if self._reference in self._bodies
+                 and self._reference not in racing else [])
         if not judging:  # only the body reported is fitted (its fit is all the frame gives)
             shown = (sel.best() if sel.seen > 0 or self._reference not in self._bodies
                      else self._reference)
-            for name in racing:
+            for name in racing + extra:
                 if name != shown:
                     sel.previous[name] = None
             racing = [shown]
+        elif sel.seen == 0 and not self._arm_stage_started:
+            racing += extra
         placed = self._placed(views)  # body-independent: once for all candidates
         for name in racing:
             body = self._bodies[name]
