@@ -471,7 +471,7 @@ def test_one_camera_starts_on_the_region_whose_fit_explains_most_of_the_shirt(
 
     def estimate(views, prev_q, search_one=True):  # type: ignore[no-untyped-def]
         seen, residual = fits[views[0].name]
-        return trk._Fit(q, set(range(seen)), residual, views, tr.renderer, cams, [])
+        return trk.BodyFit(q, set(range(seen)), residual, views, tr.renderer, cams, [])
 
     monkeypatch.setattr(tr._work, "views", lambda *a, **k: list(regions))
     monkeypatch.setattr(tr._work, "moved", lambda st, v: True)

@@ -20,10 +20,11 @@ from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors
-from bodyplay.trackers.colorshirt.prediction import PoseRenderer
+from bodyplay.trackers.colorshirt.prediction import PoseRenderer, RenderedPose
+from bodyplay.trackers.colorshirt.views import CameraView
 
-__all__ = ["ARM_SCALES", "BodyModel", "BodySelection", "arm_variants", "build_body_models",
-           "reprojection_residual", "with_arm_scale"]
+__all__ = ["ARM_SCALES", "BodyFit", "BodyModel", "BodySelection", "arm_variants",
+           "build_body_models", "reprojection_residual", "with_arm_scale"]
 
 ARM_SCALES: tuple[float, ...] = (0.84, 0.88, 0.92, 0.96, 1.0)
 """Arm lengths (upper arm, forearm and hand together) tried after the preset is
@@ -31,6 +32,31 @@ chosen, relative to the preset's. People's arms vary by more than their height
 says; the synthetic actor's are 12-16% shorter than the ``m`` preset's."""
 
 _ARM_NODES = ("l_elbow", "r_elbow", "l_wrist", "r_wrist", "l_hand", "r_hand")
+
+
+@dataclass(eq=False)
+class BodyFit:
+    """One body's fit of a frame: pose, anchored patches, mean relative residual (what
+    the start-up's race compares), and the renderer and cameras of its body, to
+    render the final pose where needed."""
+
+    q: NDArray[np.float64]
+    seen: set[int]
+    residual: float
+    views: list[CameraView]
+    renderer: PoseRenderer
+    cameras: tuple[Camera, ...]
+    _rendered: list[RenderedPose] | None = None
+
+    @property
+    def rendered(self) -> list[RenderedPose]:
+        """The final pose rendered into each view's crop (rendered on first use: of the
+        start-up's candidates only the one reported refits the white balance)."""
+        if self._rendered is None:
+            verts = self.renderer.vertices(self.q)
+            self._rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
+                              for v in self.views]
+        return self._rendered
 
 
 @dataclass(frozen=True, eq=False)

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import time
-from dataclasses import dataclass
 from typing import cast
 
 import numpy as np
@@ -39,6 +38,7 @@ from bodyplay.trackers.base import (
 from bodyplay.trackers.colorshirt.anchors import Observed, patch_anchors
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
+    BodyFit,
     BodyModel,
     BodySelection,
     arm_variants,
@@ -76,30 +76,6 @@ def _torso_length(skeleton: Skeleton) -> float:
     """Pelvis to neck (m) of ``skeleton`` standing upright (its bone offsets)."""
     chain = [NODE_NAMES.index(n) for n in ("lumbar", "thorax", "neck")]
     return float(np.linalg.norm(skeleton.offsets[chain].sum(axis=0)))
-
-
-@dataclass(eq=False)
-class _Fit:
-    """One body's fit of a frame: pose, anchored patches, mean relative residual, and
-    the renderer and cameras of its body, to render the final pose where needed."""
-
-    q: NDArray[np.float64]
-    seen: set[int]
-    residual: float
-    views: list[CameraView]
-    renderer: PoseRenderer
-    cameras: tuple[Camera, ...]
-    _rendered: list[RenderedPose] | None = None
-
-    @property
-    def rendered(self) -> list[RenderedPose]:
-        """The final pose rendered into each view's crop (rendered on first use: of the
-        start-up's candidates only the one reported refits the white balance)."""
-        if self._rendered is None:
-            verts = self.renderer.vertices(self.q)
-            self._rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
-                              for v in self.views]
-        return self._rendered
 
 
 class ColorShirtTracker:
@@ -229,7 +205,7 @@ class ColorShirtTracker:
             self._work.learn_room(self._cams, self.renderer, None, self._ever_reported,
                                   self._held if starting else None)
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
-        fit: _Fit | None
+        fit: BodyFit | None
         self._start_arm_selection()
         if self._selection is not None and self._selection.chosen is None:
             fit = self._select_body(views)
@@ -362,7 +338,7 @@ class ColorShirtTracker:
         return chosen, start.views is not None
 
     # ---- start-up: the body choice ---------------------------------------------------
-    def _select_body(self, views: list[CameraView]) -> _Fit | None:
+    def _select_body(self, views: list[CameraView]) -> BodyFit | None:
         """Start-up: fit every candidate preset, keep the one reprojecting best.
 
         Each candidate works on its own copies of the views (the pose-assisted
@@ -379,7 +355,7 @@ class ColorShirtTracker:
         """
         sel = self._selection
         assert sel is not None
-        fits: dict[str, tuple[_Fit, dict[str, object]]] = {}
+        fits: dict[str, tuple[BodyFit, dict[str, object]]] = {}
         residuals: dict[str, float] = {}
         stagger, limit = self._floor.stagger, self.options.body_choice_max_stagger
         judging = not (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
@@ -474,7 +450,7 @@ class ColorShirtTracker:
 
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
                   search_one: bool = True, placed: NDArray[np.float64] | None = None
-                  ) -> _Fit:
+                  ) -> BodyFit:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
 
         ``search_one``: whether a frame that one camera sees gets the arm search
@@ -528,9 +504,9 @@ class ColorShirtTracker:
         size_px = np.array([size[int(c)] for c in judged.camera], dtype=np.float64)
         resid = reprojection_residual(self.solver, q, judged, size_px)
         self.diagnostics["residual"] = resid
-        # the final pose's render (:attr:`_Fit.rendered`): the white balance is refitted
-        # where it agrees
-        return _Fit(q, {int(p) for p in anchors.patch}, resid, views, self.renderer,
+        # the final pose's render (BodyFit.rendered, on first use): the white balance
+        # is refitted where it agrees
+        return BodyFit(q, {int(p) for p in anchors.patch}, resid, views, self.renderer,
                     self.cameras)
 
     def _place_root(self, q: NDArray[np.float64], anchors: PatchAnchors
