@@ -95,3 +95,33 @@ def test_body_choice_waits_for_the_player_to_move(synth_gl, tmp_path, three_body
         tracker.process(FrameSet((Frame(f.image, 1.0 + fs.t, 30 + fs.index),),
                                  1.0 + fs.t, 30 + fs.index))
     assert tracker.body_name == "xs"
+
+
+def test_facing_away_reports_the_front_track_reflected(synth_gl, tmp_path, silhouette_tree):
+    # "away" (a camera behind the player) changes what is reported, not what is
+    # tracked: every frame's joints are the front track's reflected (same rays, left
+    # and right swapped) and its template (what the IoU is measured on) is the same
+    from bodyplay.trackers.silhouette.facing import LR_SWAP, reflect_joints
+
+    out = tmp_path / "cap"
+    assert main(["synth", "--clip", "131_01", "--frames", "30", "--out", str(out)]) == 0
+    src = open_source(out)
+    assert src.cameras is not None
+    cam = src.cameras[0]
+    trackers = [create_silhouette_tracker(SilhouetteOptions(body="m", facing=f),
+                                          src.cameras[:1], tree=silhouette_tree)
+                for f in ("front", "away")]
+    found = 0
+    with src:
+        for fs in src:
+            front, away = (t.process(fs) for t in trackers)
+            assert front.found == away.found
+            if not front.found:
+                continue
+            found += 1
+            assert np.allclose(away.joints, reflect_joints(front.joints, cam.center))
+            assert np.allclose(cam.project(away.joints), cam.project(front.joints[LR_SWAP]))
+            assert np.array_equal(away.extras["template"], front.extras["template"])
+            assert away.state == tuple(front.state[k] for k in LR_SWAP)
+            assert away.extras["facing"] == "away" and front.extras["facing"] == "front"
+    assert found >= 20

@@ -288,6 +288,10 @@ class SilhouetteOptions:
     fill (``box_guess`` m either side of the line of sight, from under the floor to
     ``box_top`` m; :meth:`.background.BackgroundModel.guess_in`), and resolved like a
     first guess (0: off);
+    ``facing``: "front" (the tree's poses, facing the camera) or "away": the camera
+    films the player from behind, and every reported pose is the front pose with
+    its depth reflected about the root and left and right swapped (:mod:`.facing`;
+    the silhouette, the template and the filter are unchanged);
     ``cache``: hierarchy cache folder.
     """
 
@@ -343,6 +347,7 @@ class SilhouetteOptions:
     box_guess: float = 0.9
     box_top: float = 2.3
     box_below: float = 0.0
+    facing: str = "front"
     cache: str | None = None
 
     def __post_init__(self) -> None:
@@ -351,6 +356,8 @@ class SilhouetteOptions:
                               "head_depth_window >= 0 seconds")
         if not 0 <= self.stance_weight <= 1:
             raise ConfigError("stance_weight must be in [0, 1] (0: the template's own stance)")
+        if self.facing not in ("front", "away"):
+            raise ConfigError(f"facing must be 'front' or 'away', got {self.facing!r}")
         if self.stance_window < 0 or self.stance_deadband < 0:
             raise ConfigError("stance_window must be >= 0 seconds and stance_deadband >= 0 m")
         if not 0 <= self.start_area <= 1:

@@ -56,6 +56,7 @@ from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
 from bodyplay.trackers.silhouette.bodychoice import BodyChoice
 from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
+from bodyplay.trackers.silhouette.facing import reflect_output
 from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
 from bodyplay.trackers.silhouette.hierarchy import PART_JOINTS, ShapeTree, geometry_of
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
@@ -95,6 +96,7 @@ class _Last:
     template: NDArray[np.uint8] | None = None
     protect: NDArray[np.bool_] | None = None
     extras: dict[str, object] = field(default_factory=dict)
+    shown: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None  # reported, if other
 
 
 class SilhouetteTracker:
@@ -527,6 +529,11 @@ class SilhouetteTracker:
         self._last = _Last(joints, pose, frames.t, template, protect, extras)
         conf = np.where(np.array([s == "tracked" for s in states]), 1.0, 0.5)
         conf *= float(np.exp(-step.distance / (4.0 * tree.options.thresholds[2])))
+        if self.options.facing == "away":  # filmed from behind: the front pose reflected
+            joints, pose, states, conf = reflect_output(sk, joints, pose, states, conf,
+                                                        self._cam.center)
+            self._last.shown = (joints, pose)  # the filter and smoothing stay in front space
+        extras["facing"] = self.options.facing
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
 
@@ -568,9 +575,10 @@ class SilhouetteTracker:
         ms = (time.perf_counter() - t0) * 1000.0
         if last is not None and frames.t - last.t <= self.options.lost_after:
             inferred: JointState = "inferred"
-            res = TrackResult(frames.index, frames.t, last.joints.copy(),
+            joints, pose = last.shown or (last.joints, last.pose)
+            res = TrackResult(frames.index, frames.t, joints.copy(),
                               (inferred,) * NUM_JOINTS, np.full(NUM_JOINTS, 0.2), ms,
-                              last.pose.copy(),
+                              pose.copy(),
                               {"silhouette": sil.foreground, "unknown": sil.unknown,
                                "silhouette_scale": sil.scale, "stages": stages})
             return res
