@@ -124,8 +124,11 @@ def test_reflect_joints_rejects_a_body_under_the_camera() -> None:
 
 
 def test_silhouette_options_accept_front_or_away_facing_only() -> None:
+    from bodyplay.commands.track import _silhouette_options
+
     assert SilhouetteOptions().facing == "front"
     assert SilhouetteOptions(facing="away").facing == "away"
+    assert _silhouette_options(["facing=away"]).facing == "away"  # `track --set`
     with pytest.raises(ConfigError, match="facing"):
         SilhouetteOptions(facing="back")
 
