@@ -26,14 +26,18 @@ its first frame. Per camera:
   up to 80 degrees from the camera);
 * frames with a pose, median ms per frame (wall) and CPU ms per frame.
 
-Tune on cam01-cam02, report cam03-cam04 beside them.
+Tune on cam01-cam02, report cam03-cam04 beside them. ``--away cam03,cam04``
+tracks those cameras (which film the player from behind) with ``facing="away"``
+(the front track reported reflected; docs/silhouette.md, step 9).
 
     .venv/bin/python benchmarks/silhouette_real.py [--cams cam01,cam02] [--set NAME=VALUE]
+                                                   [--away cam03,cam04]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
 import itertools
 import sys
@@ -252,6 +256,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--cams", default=",".join(CAMS))
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a SilhouetteOptions field, as for `bodyplay track --set`")
+    p.add_argument("--away", default="", help="cameras that film the player from behind, "
+                   "tracked with facing=away (comma-separated)")
     p.add_argument("--overlays", help="folder for the overlay videos and stills (cam01 and "
                    "the Sports2D clip): silhouette_pose2sim.mp4/.png, silhouette_sports2d.mp4/.png")
     args = p.parse_args(argv)
@@ -262,8 +268,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"no Pose2Sim recording at {P2S}")
         return 1
     options = _silhouette_options(args.set) if args.set else SilhouetteOptions()
+    away = {c for c in args.away.split(",") if c}
+    if away - set(CAMS):
+        p.error(f"--away: unknown cameras {sorted(away - set(CAMS))}, known: {', '.join(CAMS)}")
     print(f"# silhouette tracker on Pose2Sim, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M}"
-          f" UTC, {machine()}; options: {' '.join(args.set) or 'defaults'}")
+          f" UTC, {machine()}; options: {' '.join(args.set) or 'defaults'}"
+          + (f"; facing=away on {', '.join(sorted(away))}" if away else ""))
     tree = load_or_build_tree(options.hierarchy, progress=False)
     work = Path(args.work)
     caps = {c: Path(import_capture(P2S, work / c, cameras=[c])) for c in CAMS}
@@ -287,7 +297,8 @@ def main(argv: list[str] | None = None) -> int:
         masks = reference_masks(ref, c) if ref is not None else None
         ov = (Overlay(out / "silhouette_pose2sim.mp4", 60.0, still=60)
               if out is not None and c == "cam01" else None)
-        res = run_camera(caps[c], tree, options, masks, truth, ov)
+        opts = dataclasses.replace(options, facing="away") if c in away else options
+        res = run_camera(caps[c], tree, opts, masks, truth, ov)
 
         def mw(a: NDArray[np.float64], scale: float = 1.0, worst: str = "min") -> str:
             a = a[np.isfinite(a)]
@@ -296,7 +307,8 @@ def main(argv: list[str] | None = None) -> int:
             w = a.min() if worst == "min" else a.max()
             return f"{scale * np.median(a):.2f} / {scale * w:.2f}"
 
-        print(f"| {c} | {res['found']}/{res['frames']} | {mw(res['obs'])} | {mw(res['ref'])} | "
+        label = f"{c} (away)" if c in away else c
+        print(f"| {label} | {res['found']}/{res['frames']} | {mw(res['obs'])} | {mw(res['ref'])} | "
               f"{mw(res['err'], 100, 'max')} | {100 * np.nanmedian(res['aligned']):.1f} | "
               f"{np.nanmedian(res['heading']):.0f}, "
               f"{100 * np.mean(res['heading'][np.isfinite(res['heading'])] > 90):.0f}% | "
