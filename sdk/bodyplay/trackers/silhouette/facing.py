@@ -12,11 +12,12 @@ Depth here is the horizontal distance along the line of sight through the pelvis
 reflection along a tilted axis would lean a standing body). Each joint moves
 *along its own ray* from the camera centre to the reflected depth, so every joint
 projects exactly where it did (the silhouette, the template and the IoU are those
-of the front pose); the pose vector is the mirror image of the front pose through
-the vertical plane at the pelvis across the line of sight (the same within the
-perspective of the body's depth). The filter keeps tracking in the tree's
-front-facing space; only what is reported is reflected
-(``SilhouetteOptions.facing``).
+of the front pose; from a camera well above the player a joint moved along its
+ray also rises or sinks); the pose vector is the mirror image of the front pose
+through the vertical plane at the pelvis across the line of sight (heights kept;
+the two agree seen from above, within the perspective of the body's depth). The
+filter keeps tracking in the tree's front-facing space; only what is reported is
+reflected (``SilhouetteOptions.facing``).
 """
 
 from __future__ import annotations
@@ -30,11 +31,7 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.base import JointState
 
-__all__ = ["FACINGS", "LR_SWAP", "reflect_joints", "reflect_output", "reflect_pose", "sight_normal"]
-
-FACINGS: tuple[str, ...] = ("front", "away")
-"""``SilhouetteOptions.facing``: the camera films the player from the front (the
-tree's poses as they are) or from behind (every reported pose reflected)."""
+__all__ = ["LR_SWAP", "reflect_joints", "reflect_output", "reflect_pose", "sight_normal"]
 
 LR_SWAP: NDArray[np.int64] = np.array(
     [JOINT_INDEX[("r_" if n[0] == "l" else "l_") + n[2:]] if n.startswith(("l_", "r_"))
