@@ -38,3 +38,24 @@ def test_speed_gate_forgets_a_pose_reported_over_a_second_ago() -> None:
     assert gate.admits(1.5, _FAR, residual=0.3)
     gate.clear()
     assert gate.reported is None and gate.admits(1.6, _AT, residual=0.3)
+
+
+def test_speed_gate_does_not_let_one_camera_of_several_outvote_the_pose_reported() -> None:
+    gate = SpeedGate(max_speed=3.0, good_residual=0.09)
+    gate.report(0.0, _AT)  # placed by both cameras
+    assert not gate.admits(1 / 30, _FAR, residual=0.05, confirmed=False)
+    assert not gate.admits(2 / 30, _FAR, residual=0.05, confirmed=False)
+    assert gate.reported is not None and gate.unreached is None
+
+
+def test_speed_gate_reports_one_camera_of_several_within_reach_of_the_pose() -> None:
+    gate = SpeedGate(max_speed=3.0, good_residual=0.09)
+    gate.report(0.0, _AT)
+    assert gate.admits(1 / 30, _AT + 0.05, residual=0.3, confirmed=False)
+
+
+def test_speed_gate_lets_two_cameras_outvote_a_pose_one_camera_placed() -> None:
+    gate = SpeedGate(max_speed=3.0, good_residual=0.09)
+    gate.report(0.0, _FAR)  # one camera's depth, reported
+    assert not gate.admits(1 / 30, _AT, residual=0.05)
+    assert gate.admits(2 / 30, _AT, residual=0.05)

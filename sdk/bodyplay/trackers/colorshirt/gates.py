@@ -75,7 +75,11 @@ class SpeedGate:
     ``good_residual``) that is out of reach of the last pose reported but within
     reach of the fit rejected just before it takes over, since two good fits in a
     row outvote the one reported before them (one wrong fit 3.9 m too deep once
-    made the gate reject every right fit after it for a second).
+    made the gate reject every right fit after it for a second). Only fits whose
+    depth is *confirmed* vote: in a rig of several cameras, a fit that one camera
+    alone saw has the shirt's size for its depth, and two such fits in a row, metres
+    too deep, outvoted the pose both cameras had placed (jumping jacks among clothes
+    in shirt colours: 1.8 and 2.7 m off).
     """
 
     def __init__(self, max_speed: float, good_residual: float) -> None:
@@ -90,10 +94,14 @@ class SpeedGate:
         """Forget the last pose reported and the last fit rejected (a new track)."""
         self.reported = self.unreached = None
 
-    def admits(self, t: float, root: NDArray[np.float64], residual: float) -> bool:
-        """Whether a fit with ``root`` and ``residual`` at ``t`` may be reported."""
+    def admits(self, t: float, root: NDArray[np.float64], residual: float,
+               confirmed: bool = True) -> bool:
+        """Whether a fit with ``root`` and ``residual`` at ``t`` may be reported;
+        ``confirmed``: whether its depth is (False: one camera of several saw it)."""
         if within_reach(self.reported, t, root, self.max_speed):
             return True
+        if not confirmed:
+            return False  # a lone camera's depth: no vote, and not kept as a voter
         if (residual <= self.good_residual and self.unreached is not None
                 and within_reach(self.unreached, t, root, self.max_speed)):
             self.reported = None  # the pose reported before them was the outlier

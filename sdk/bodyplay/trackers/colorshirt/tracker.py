@@ -213,7 +213,9 @@ class ColorShirtTracker:
             fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
-        if fit is not None and not self._gate.admits(frames.t, fit.q[:3], fit.residual):
+        if fit is not None and not self._gate.admits(
+                frames.t, fit.q[:3], fit.residual,
+                confirmed=len(fit.views) > 1 or len(self.cameras) == 1):
             # not reported, but the pixels where its render and the classification
             # agree still tell the new illumination (after a light switch this is
             # how W catches up)
