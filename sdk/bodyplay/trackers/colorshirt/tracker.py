@@ -237,16 +237,17 @@ class ColorShirtTracker:
                 self._work.refit_white_balance(self._cams[v.index], v, r)
         self._prev = fit.q
         self._gate.report(frames.t, fit.q[:3])
-        if (fresh or self._alone is not None) and len(self.cameras) > 1:
+        if (fresh or self._alone is not None or len(fit.views) == 1) and len(self.cameras) > 1:
             alone = 0 if fresh or self._alone is None else self._alone[1] + 1
             agreed = len(fit.views) > 1 or alone >= self.options.start_agreement_frames
             self._alone = None if agreed else (fit.views[0].index, alone)
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
         self._good = fit.residual <= self.options.good_residual
         if self._alone is not None:
-            # one camera's start in a rig of several: its depth is the shirt's size
-            # alone (0.5-4.6 m off at times), so it is tracked but not reported until
-            # another camera agrees; no plate learns this frame (not around a pose
+            # one camera alone in a rig of several (its start, or a track the others
+            # lost): its depth is the shirt's size alone (0.5-4.6 m off at times), so it
+            # is tracked but not reported until another camera agrees; no plate learns
+            # this frame (not around a pose
             # that may be metres off, and not the other cameras' frames as an empty
             # room: the player is in it)
             self.diagnostics["rejected"] = "unconfirmed"
