@@ -438,6 +438,36 @@ def test_a_lone_camera_start_that_no_camera_confirms_is_reported_after_the_agree
     assert found == [False, False, False, True, True, True], found
 
 
+def test_a_track_the_other_camera_loses_is_not_reported_until_a_camera_agrees_again(
+        db) -> None:  # type: ignore[no-untyped-def]
+    """Both cameras see the player, then the second loses them (clutter, a light
+    switch): the first camera alone has only the shirt's size for depth (on the
+    validation set's tune half not one such frame of a two-camera rig was within
+    10 cm), so its fit is tracked but not reported, as a lone camera's start is,
+    until the second camera sees the player again or ``start_agreement_frames``
+    pass."""
+    cams = webcam_rig(2)
+    q = _truth(11)
+    rooms = [clutter(480, 640, np.random.default_rng(k)) for k in range(2)]
+    tr = create_colorshirt_tracker(
+        ColorShirtOptions(background_subtraction=False, body="m", start_agreement_frames=3),
+        cams, database=db)
+    rng = np.random.default_rng(4)
+    found, rejected = [], []
+    for i in range(9):
+        images = _paint(q, cams, rng, rooms=rooms)
+        if 2 <= i < 8:
+            images[1] = rooms[1].copy()
+        r = tr.process(_frameset(images, i))
+        found.append(r.found)
+        rejected.append(tr.diagnostics.get("rejected"))
+        if r.found:
+            assert r.extras["cameras_used"] == ([0] if 2 <= i < 8 else [0, 1]), (i, r.extras)
+    assert found[1] and found[8], found
+    assert not any(found[2:5]) and set(rejected[2:5]) == {"unconfirmed"}, (found, rejected)
+    assert found[5:8] == [True, True, True], found  # alone for start_agreement_frames
+
+
 def test_options_reject_no_start_candidates_or_an_empty_root_band() -> None:
     with pytest.raises(ConfigError, match="start_candidates"):
         ColorShirtOptions(start_candidates=0)

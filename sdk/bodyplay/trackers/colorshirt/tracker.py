@@ -239,17 +239,14 @@ class ColorShirtTracker:
         self._gate.report(frames.t, fit.q[:3])
         if (fresh or self._alone is not None or len(fit.views) == 1) and len(self.cameras) > 1:
             alone = 0 if fresh or self._alone is None else self._alone[1] + 1
-            agreed = len(fit.views) > 1 or alone >= self.options.start_agreement_frames
-            self._alone = None if agreed else (fit.views[0].index, alone)
+            self._alone = None if len(fit.views) > 1 else (fit.views[0].index, alone)
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
         self._good = fit.residual <= self.options.good_residual
-        if self._alone is not None:
+        if self._unconfirmed():
             # one camera alone in a rig of several (its start, or a track the others
-            # lost): its depth is the shirt's size alone (0.5-4.6 m off at times), so it
-            # is tracked but not reported until another camera agrees; no plate learns
-            # this frame (not around a pose
-            # that may be metres off, and not the other cameras' frames as an empty
-            # room: the player is in it)
+            # lost): its depth is the shirt's size alone (0.5-4.6 m off), so it is tracked
+            # but not reported until another camera agrees; no plate learns this frame
+            # (not around a pose that may be metres off, nor the others as an empty room)
             self.diagnostics["rejected"] = "unconfirmed"
             self._ever_reported = True
             self._work.learn_room(self._cams, self.renderer, None, True)
@@ -271,7 +268,12 @@ class ColorShirtTracker:
         bowl in shirt colours was that region, or (its fit rejected) MOG2 had
         absorbed a player standing still by the next frame and nothing was found."""
         return self.options.start_candidates > 1 and (
-            self._alone is not None or all(st.last_box is None for st in self._cams))
+            self._unconfirmed() or all(st.last_box is None for st in self._cams))
+
+    def _unconfirmed(self) -> bool:
+        """Whether one camera of several alone tracks the player, for fewer than
+        ``start_agreement_frames`` frames: tracked, not reported."""
+        return self._alone is not None and self._alone[1] < self.options.start_agreement_frames
 
     def _start_views(self, frames: FrameSet, confirmed: bool
                      ) -> tuple[list[CameraView], bool]:
