@@ -39,6 +39,7 @@ import numpy as np
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.jsonl import read_pose_jsonl
 from bodyplay.capture.sources import open_source
+from bodyplay.overrides import options_with_overrides
 from bodyplay.trackers.silhouette import (
     SilhouetteOptions,
     create_silhouette_tracker,
@@ -55,12 +56,21 @@ BUILT_FROM = (("13_29", 2.0), ("131_03", 0.0))
 VALIDATION = ("dataset-1_bow_normal_001", "dataset-2_raise-up-left-hand_normal_001")
 TEST = ("dataset-2_wave-both-hands_normal_001", "dataset-1_punch_normal_001",
         "dataset-2_raise-up-both-hands_normal_001", "dataset-1_dance-short_normal_001")
+TUNE = (("13_29", 10.0, "m"), ("dataset-1_bow_normal_001", 0.0, "m"),
+        ("dataset-2_raise-up-left-hand_normal_001", 0.0, "m"),
+        ("dataset-2_wave-right-hand_normal_001", 0.0, "m"), ("dataset-1_kick_normal_001", 0.0, "m"),
+        ("13_29", 10.0, "xs"), ("dataset-1_bow_normal_001", 0.0, "xl"),
+        ("dataset-2_raise-up-left-hand_normal_001", 0.0, "s"),
+        ("dataset-2_wave-right-hand_normal_001", 0.0, "l"))
+"""The tune clips (clip, start in seconds, the actor's body preset): settings are
+chosen on these (``--tune``), never on the built-from and Bandai test clips reported."""
 
 
-def capture(work: Path, clip: str, start: float, seconds: float, occlude: str | None = None
-            ) -> Path:
-    """The synthetic one-camera capture of a clip (rendered once)."""
+def capture(work: Path, clip: str, start: float, seconds: float, occlude: str | None = None,
+            body: str = "m") -> Path:
+    """The synthetic one-camera capture of a clip (rendered once) by the actor ``body``."""
     tag = f"_occ{occlude.replace(':', '-')}" if occlude else ""
+    tag += f"_{body}" if body != "m" else ""
     out = work / f"{clip}_{start:g}_{seconds:g}s{tag}"
     if not (out / "truth.jsonl").exists():
         src = str(BANDAI / f"{clip}.bvh") if clip.startswith("dataset") else clip
@@ -68,6 +78,8 @@ def capture(work: Path, clip: str, start: float, seconds: float, occlude: str | 
                "--seconds", str(seconds), "--start", str(start)]
         if occlude:
             cmd += ["--occlude", occlude]
+        if body != "m":
+            cmd += ["--body", body]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     return out
 
@@ -101,10 +113,10 @@ def track(folder: Path, tracker: Any) -> dict[str, Any]:
             "found": found / max(n, 1), "stages": stages, "frames": n}
 
 
-def silhouette_tracker(folder: Path, tree: Any) -> Any:
+def silhouette_tracker(folder: Path, tree: Any, options: SilhouetteOptions | None = None) -> Any:
     src = open_source(folder)
     assert src.cameras is not None
-    return create_silhouette_tracker(SilhouetteOptions(), src.cameras[:1], tree=tree)
+    return create_silhouette_tracker(options or SilhouetteOptions(), src.cameras[:1], tree=tree)
 
 
 def colorshirt_tracker(folder: Path) -> Any:
@@ -168,13 +180,20 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quick", action="store_true", help="one clip of each kind, no color shirt")
     p.add_argument("--no-colorshirt", action="store_true")
     p.add_argument("--validation", action="store_true", help="report the validation clips")
+    p.add_argument("--tune", action="store_true",
+                   help="the nine tune clips only (TUNE: five clips, four of them also by "
+                        "other actor bodies): median / worst / mean of clip medians")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="a silhouette option, as `bodyplay track --set` (repeatable)")
     p.add_argument("--real-frames", type=int, default=300)
     p.add_argument("--overlays", help="folder for the real-footage overlay videos")
     args = p.parse_args(argv)
     work = Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
     print(f"# silhouette tracker benchmark, {datetime.date.today()}, {machine()}")
-    opts = SilhouetteOptions()
+    opts = options_with_overrides(SilhouetteOptions(), args.set)
+    if args.set:
+        print(f"options: {', '.join(args.set)}")
     t0 = time.perf_counter()
     tree = load_or_build_tree(opts.hierarchy, progress=False)
     path = tree_cache_path(opts.hierarchy)
@@ -183,10 +202,15 @@ def main(argv: list[str] | None = None) -> int:
           f"{len(tree.bodies)} bodies, {tree.nbytes / 1e6:.1f} MB in memory, "
           f"{path.stat().st_size / 1e6:.1f} MB on disk, built in {tree.build_seconds:.0f} s, "
           f"loaded in {time.perf_counter() - t0:.1f} s")
-    groups: dict[str, list[tuple[str, float]]] = {"built-from (CMU)": list(BUILT_FROM)}
+    groups: dict[str, list[tuple[str, float, str]]] = {
+        "built-from (CMU)": [(c, t, "m") for c, t in BUILT_FROM]}
     if BANDAI.is_dir():
         bandai = VALIDATION if args.validation else TEST
-        groups["not built-from (Bandai)"] = [(c, 0.0) for c in bandai]
+        groups["not built-from (Bandai)"] = [(c, 0.0, "m") for c in bandai]
+    if args.tune:
+        if not BANDAI.is_dir():
+            raise SystemExit(f"the tune clips need the Bandai clips in {BANDAI}")
+        groups = {"tune": list(TUNE)}
     if args.quick:
         groups = {k: v[:1] for k, v in groups.items()}
     all_ms: list[float] = []
@@ -196,9 +220,9 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---|---|---|---|")
     for group, clips in groups.items():
         meds = []
-        for clip, start in clips:
-            folder = capture(work, clip, start, args.seconds)
-            res = track(folder, silhouette_tracker(folder, tree))
+        for clip, start, body in clips:
+            folder = capture(work, clip, start, args.seconds, body=body)
+            res = track(folder, silhouette_tracker(folder, tree, opts))
             all_ms += list(res["ms"][1:])
             for k, v in res["stages"].items():
                 stages.setdefault(k, []).extend(v)
@@ -209,14 +233,15 @@ def main(argv: list[str] | None = None) -> int:
                 cres = track(folder, colorshirt_tracker(folder))
                 cs = f"{100 * np.nanmean(cres['upper']):.1f}"
             up = 100 * np.nanmean(res["upper"]) if len(res["upper"]) else float("nan")
-            print(f"| {group} | {clip} | {med:.1f} / {100 * np.nanmean(res['frame_err']):.1f} "
+            name = clip if body == "m" else f"{clip} (actor {body})"
+            print(f"| {group} | {name} | {med:.1f} / {100 * np.nanmean(res['frame_err']):.1f} "
                   f"| {100 * res['found']:.0f}% | {cs} | {up:.1f} |")
-        print(f"| {group} | **median of clips / worst** | {np.median(meds):.1f} / "
-              f"{max(meds):.1f} | | | |")
-    if BANDAI.is_dir():
+        print(f"| {group} | **median of clips / worst / mean** | {np.median(meds):.1f} / "
+              f"{max(meds):.1f} / {np.mean(meds):.1f} | | | |")
+    if BANDAI.is_dir() and not args.tune:
         occ_clip = TEST[0]
         folder = capture(work, occ_clip, 0.0, args.seconds, occlude="2:1")
-        res = track(folder, silhouette_tracker(folder, tree))
+        res = track(folder, silhouette_tracker(folder, tree, opts))
         k = recovery(res, 2.0, 1.0)
         print(f"\nrecovery: {occ_clip} with --occlude 2:1: error within 1.2x its median "
               f"({100 * np.nanmedian(res['frame_err']) * 1.2:.1f} cm) {k} frames after the "
@@ -230,7 +255,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"peak memory (this process, all trackers): "
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
     p2s = DATA / "video" / "pose2sim_single"
-    if p2s.is_dir():
+    if p2s.is_dir() and args.real_frames > 0 and not args.tune:
         from bodyplay.capture.external import import_capture
 
         out = Path(args.overlays) if args.overlays else None
