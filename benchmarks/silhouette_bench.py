@@ -19,7 +19,12 @@ One camera, 640x480, synthetic captures of real clips rendered once into --work
   and the observed one; ``--overlays DIR`` writes short overlay videos of it and
   of the Sports2D clip.
 
+* ``--tune``: instead, the nine tune captures (:data:`TUNE`) the settings are chosen
+  on, median / worst / mean of their clip medians; ``--set NAME=VALUE`` tries an
+  option (as ``bodyplay track --set``).
+
     .venv/bin/python benchmarks/silhouette_bench.py [--quick] [--overlays docs/media]
+    nice .venv/bin/python benchmarks/silhouette_bench.py --tune --set arm_stay=1
 """
 
 from __future__ import annotations
@@ -182,7 +187,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--validation", action="store_true", help="report the validation clips")
     p.add_argument("--tune", action="store_true",
                    help="the nine tune clips only (TUNE: five clips, four of them also by "
-                        "other actor bodies): median / worst / mean of clip medians")
+                        "other actor bodies; no colour shirt): median / worst / mean of clip "
+                        "medians")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a silhouette option, as `bodyplay track --set` (repeatable)")
     p.add_argument("--real-frames", type=int, default=300)
@@ -229,7 +235,7 @@ def main(argv: list[str] | None = None) -> int:
             med = float(100 * np.nanmedian(res["frame_err"]))
             meds.append(med)
             cs = "-"
-            if not (args.quick or args.no_colorshirt):
+            if not (args.quick or args.no_colorshirt or args.tune):
                 cres = track(folder, colorshirt_tracker(folder))
                 cs = f"{100 * np.nanmean(cres['upper']):.1f}"
             up = 100 * np.nanmean(res["upper"]) if len(res["upper"]) else float("nan")
