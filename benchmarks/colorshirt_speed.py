@@ -75,6 +75,8 @@ class StageClock:
     def __init__(self) -> None:
         self.totals: dict[str, float] = defaultdict(float)
         self._stack: list[list[float]] = []
+        self.counting = True
+        """Whether the time spent is added to :attr:`totals` (off: frames left out)."""
 
     @contextmanager
     def stage(self, name: str) -> Iterator[None]:
@@ -86,7 +88,8 @@ class StageClock:
         finally:
             self._stack.pop()
             spent = time.thread_time() - frame[0]
-            self.totals[name] += spent - frame[1]
+            if self.counting:
+                self.totals[name] += spent - frame[1]
             if self._stack:
                 self._stack[-1][1] += spent
 
@@ -114,8 +117,11 @@ def instrument(clock: StageClock) -> Callable[[], None]:
 
 
 def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
-        clock: StageClock | None) -> dict[str, Any]:
-    """Track one capture; per camera frame, CPU and wall ms from the first frame."""
+        clock: StageClock | None, steady_after: int = 0) -> dict[str, Any]:
+    """Track one capture; per camera frame, CPU and wall ms from the first frame.
+
+    ``steady_after``: the stage clock counts only the frame sets after this many
+    (the start-up's left out); the times of every frame are returned."""
     truth_rows = (folder / "truth.jsonl").read_text().splitlines()
     src = open_source(folder)
     assert src.cameras is not None
@@ -128,6 +134,8 @@ def run(folder: Path, setting: cv.Setting, options: ColorShirtOptions, db: Any,
             if setting.start == "view" and empty:
                 continue
             frames = FrameSet(fs.frames[: setting.cameras], fs.t, fs.index)
+            if clock is not None:
+                clock.counting = len(cpu) >= steady_after
             c0, w0, p0 = time.thread_time(), time.perf_counter(), time.process_time()
             if clock is None:
                 r = tracker.process(frames)
@@ -157,6 +165,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="cv2.setNumThreads for the run (default: OpenCV's own, one per core)")
     ap.add_argument("--no-stages", action="store_true",
                     help="no per-stage clock (its wrappers cost about 1%% of the time)")
+    ap.add_argument("--steady-after", type=int, default=0, metavar="N",
+                    help="stage shares and the 'steady' medians of the frame sets after the "
+                    "first N of each clip only (the start-up left out; 0: every frame)")
     ap.add_argument("--json", help="also write the figures (and every clip's CPU ms per "
                     "camera frame, frame by frame) to this JSON file")
     ap.add_argument("--poses", help="write every frame's joints to this .npz (one array "
@@ -187,14 +198,17 @@ def main(argv: list[str] | None = None) -> int:
         clock = None if args.no_stages else StageClock()
         undo = instrument(clock) if clock is not None else (lambda: None)
         cpu: list[float] = []
+        steady: list[float] = []
         wall: list[float] = []
         proc: list[float] = []
         per_frame: dict[str, list[float]] = {}
         try:
             for i, clip in picked:
                 folder = cv.capture(work, clip, s.lighting, i, args.seconds)
-                r = run(folder, s, options, cv.database_for(clip, args.db_size, dbs), clock)
+                r = run(folder, s, options, cv.database_for(clip, args.db_size, dbs), clock,
+                        args.steady_after)
                 cpu += r["cpu"]
+                steady += r["cpu"][args.steady_after:]
                 wall += r["wall"]
                 proc += r["process"]
                 joints[f"{s.name}/{clip.name}"] = r["poses"]
@@ -210,6 +224,12 @@ def main(argv: list[str] | None = None) -> int:
             "cpu_p90": float(np.percentile(cpu, 90)), "wall_median": float(np.median(wall)),
             "wall_p90": float(np.percentile(wall, 90)),
             "process_cpu_median": float(np.median(proc)), "cpu_per_frame": per_frame}
+        if args.steady_after > 0 and steady:
+            row["steady_cpu_median"] = float(np.median(steady))
+            row["steady_cpu_mean"] = float(np.mean(steady))
+            print(f"{s.name}: {len(steady)} camera frames after the first {args.steady_after} "
+                  f"frame sets of each clip: CPU median {row['steady_cpu_median']:.1f} ms, "
+                  f"mean {row['steady_cpu_mean']:.1f}")
         print(f"\n{s.name}: {len(cpu)} camera frames of {len(picked)} clips, from the first "
               f"frame: CPU median {row['cpu_median']:.1f} ms, p90 {row['cpu_p90']:.1f}; wall "
               f"median {row['wall_median']:.1f}, p90 {row['wall_p90']:.1f}; CPU of every thread "
@@ -218,9 +238,12 @@ def main(argv: list[str] | None = None) -> int:
             total = sum(clock.totals.values())
             shares = {k: v / total for k, v in sorted(clock.totals.items(), key=lambda kv: -kv[1])}
             row["stages"] = shares
-            print("| stage | share of CPU time |\n|---|---|")
+            sets = len(steady) if args.steady_after > 0 else len(cpu)
+            per = 1000.0 / max(sets * s.cameras, 1)  # ms per camera frame counted
+            row["stage_ms"] = {k: v * per for k, v in clock.totals.items()}
+            print("| stage | share of CPU time | ms per camera frame (mean) |\n|---|---|---|")
             for k, v in shares.items():
-                print(f"| {k} | {100 * v:.1f}% |")
+                print(f"| {k} | {100 * v:.1f}% | {clock.totals[k] * per:.2f} |")
         out[s.name] = row
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1))

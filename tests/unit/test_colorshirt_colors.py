@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from colorshirt_paint import clutter, paint_shirt
@@ -122,3 +124,46 @@ def test_measurement_noise_must_be_non_negative() -> None:
     base = srgb_color_model()
     with pytest.raises(ConfigError, match="measurement_noise"):
         ColorModel(base.means, base.covariances, measurement_noise=-1.0)
+
+
+def test_classify_near_is_classify_with_the_penalty_map_of_the_patch_distances() -> None:
+    rng = np.random.default_rng(7)
+    img = clutter(60, 56, rng)
+    paint_shirt(img, 4, 4, 10, rng)
+    model = dataclasses.replace(default_color_model(), measurement_noise=6.0)
+    W = np.array([[1.1, 0.02, 0.0], [0.0, 0.95, 0.03], [0.01, 0.0, 1.2]])
+    mask = rng.random(img.shape[:2]) > 0.2
+    # patches 1..6 of colors (0, 0, 3, 5, 5, 9), with ties between a color's two maps
+    patch = np.array([1, 2, 3, 4, 5, 6], np.uint8)
+    color = np.array([0, 0, 3, 5, 5, 9], np.int64)
+    dists = rng.integers(0, 30, size=(6, 60, 56)).astype(np.float32) * np.float32(0.5)
+    strength = 0.37
+    ids, owner = model.classify_near(img, W, 5.0, mask, dists, patch, color, strength)
+    # the reference: the (H, W, 10) penalty map and each color's nearer patch
+    pen = np.full((60, 56, NUM_COLORS), 1.0e4, np.float32)
+    near = np.zeros((60, 56, NUM_COLORS), np.uint8)
+    for k in np.unique(color):
+        js = np.nonzero(color == k)[0]
+        least = dists[js].min(axis=0)
+        pen[..., k] = np.float32(strength) * least
+        near[..., k] = patch[js][np.argmax(dists[js] == least[None], axis=0)]
+    ref = model.classify(img, W, 5.0, mask, pen).ids
+    assert ids.any() and np.array_equal(ids, ref)
+    k = np.maximum(ref.astype(np.int64) - 1, 0)
+    want = np.where(ref > 0, np.take_along_axis(near, k[..., None], axis=2)[..., 0], 0)
+    assert np.array_equal(owner, want)
+
+
+def test_classify_pair_is_both_models_classifications() -> None:
+    rng = np.random.default_rng(3)
+    img = clutter(60, 56, rng)
+    paint_shirt(img, 4, 4, 10, rng)
+    plain = default_color_model()
+    wide = dataclasses.replace(plain, measurement_noise=6.0)
+    W = np.array([[1.6, 0.05, 0.0], [0.02, 1.4, 0.0], [0.0, 0.03, 1.9]])
+    mask = rng.random(img.shape[:2]) > 0.2
+    a, b = plain.classify_pair(img, W, 3.0, mask, wide)
+    ra, rb = plain.classify(img, W, 3.0, mask), wide.classify(img, W, 3.0, mask)
+    assert np.array_equal(a.ids, ra.ids) and np.array_equal(a.distance, ra.distance)
+    assert np.array_equal(b.ids, rb.ids) and np.array_equal(b.distance, rb.distance)
+    assert np.count_nonzero(b.ids) > np.count_nonzero(a.ids)

@@ -387,15 +387,14 @@ class CameraWork:
         o = self.options
         C = prior_penalty_slope(o.prior_strength, view.shirt_scale, view.W, o.prior_gain_power)
         min_px = max(3, int(o.min_patch_fraction * view.ids.size))
-        pen, owner = renderer.prior_penalty(rend, C, min_px)
-        cls = self.noise_model.classify(view.crop, view.W, o.prior_threshold, view.mask, pen)
-        ids = clean_ids(cls.ids, o.blob_fraction, o.blob_attach,
-                        o.sleeve_attach)
+        dists, patch, color = renderer.patch_distances(rend, min_px)
+        cls, owner = self.noise_model.classify_near(view.crop, view.W, o.prior_threshold,
+                                                    view.mask, dists, patch, color, C)
+        ids = clean_ids(cls, o.blob_fraction, o.blob_attach, o.sleeve_attach)
         view.ids = ids
-        k = ids.astype(np.int64) - 1
-        yy, xx = np.nonzero(ids)
-        patch_ids = np.zeros_like(ids)
-        patch_ids[yy, xx] = owner[yy, xx, k[yy, xx]]
+        # a kept pixel keeps its color (clean_ids only drops pixels): its patch is the
+        # one of that color nearest to it
+        patch_ids = np.where(ids > 0, owner, np.uint8(0))
         view.patch_ids = patch_ids
         st, _ = patch_stats(patch_ids)
         return st.count, st.centroid
@@ -486,7 +485,7 @@ class CameraWork:
             s = 0.5 / _REDUCE  # rendered at half the plate's resolution, then grown
             win = CropWindow(0.0, 0.0, s, max(1, round(cam.width * s)),
                              max(1, round(cam.height * s)))
-            sil = np.isfinite(renderer.render(verts, cam, win).depth).astype(np.uint8)
+            sil = renderer.silhouette(verts, cam, win)
             ys, xs = np.nonzero(sil)
             if not len(ys):
                 st.room.learn(None)

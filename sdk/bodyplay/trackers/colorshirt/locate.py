@@ -105,18 +105,22 @@ def _cell_integral(  # pragma: no cover - compiled
     hc = bins.shape[0] // stride
     wc = bins.shape[1] // stride
     integ = np.zeros((hc + 1, wc + 1, NUM_BINS), np.int32)
-    for y in range(hc * stride):
-        cy = y // stride + 1
-        for x in range(wc * stride):
-            b = bins[y, x]
-            if b >= 0:
-                integ[cy, x // stride + 1, b] += 1
+    row = np.empty(NUM_BINS, np.int32)
     for cy in range(1, hc + 1):
+        # the row's cell histograms, then the integral: the row's running sums plus
+        # the integral of the row above (the same integers as summing the four corners)
+        for y in range((cy - 1) * stride, cy * stride):
+            for cx in range(1, wc + 1):
+                cell = integ[cy, cx]
+                for x in range((cx - 1) * stride, cx * stride):
+                    b = bins[y, x]
+                    if b >= 0:
+                        cell[b] += 1
+        row[:] = 0
         for cx in range(1, wc + 1):
             for b in range(NUM_BINS):
-                integ[cy, cx, b] += (
-                    integ[cy - 1, cx, b] + integ[cy, cx - 1, b] - integ[cy - 1, cx - 1, b]
-                )
+                row[b] += integ[cy, cx, b]
+                integ[cy, cx, b] = integ[cy - 1, cx, b] + row[b]
     return integ
 
 
@@ -255,32 +259,39 @@ class ShirtLocator:
                  shape: tuple[int, ...]) -> ShirtLocation:
         """The weighted average of the windows around the best one of ``maps``."""
         o = self.options
-        u_max = max((float(u.max()) for _, u in maps if u.size), default=0.0)
+        maxima = [(s, u, float(u.max())) for s, u in maps if u.size]
+        u_max = max((m for _, _, m in maxima), default=0.0)
         if u_max <= 0.0:
             return ShirtLocation(shape[1] / 2, shape[0] / 2, 0.0, 0.0, False)
         sigma = 0.1 * u_max
         # the best window: the average is taken over the windows overlapping it only,
         # so that a second colorful region elsewhere (a poster, a fruit bowl, clothes
         # on a rail) cannot pull the centre between the two
-        bs, bu = max(((s, u) for s, u in maps if u.size), key=lambda m: float(m[1].max()))
+        bs, bu, _ = max(maxima, key=lambda m: m[2])
         by, bx = np.unravel_index(int(np.argmax(bu)), bu.shape)
         best_c = ((bx + 0.5 * bs) * o.stride, (by + 0.5 * bs) * o.stride)
         wsum = 0.0
         acc = np.zeros(3)
-        for s, u in maps:
-            if not u.size:
-                continue
-            w = np.exp(-(((u.astype(np.float64) - u_max) / sigma) ** 2))
+        for s, u, _ in maxima:
+            w = u.astype(np.float64)  # exp(-((u - u_max) / sigma)^2), in place
+            w -= u_max
+            w /= sigma
+            np.square(w, out=w)
+            np.negative(w, out=w)
+            np.exp(w, out=w)
             w[u <= 0] = 0.0
-            ys, xs = np.indices(u.shape)
+            # window centres per column and row (the grid is separable, so the
+            # windows beyond reach are whole rows and columns)
+            gx = (np.arange(u.shape[1]) + 0.5 * s) * o.stride
+            gy = (np.arange(u.shape[0]) + 0.5 * s) * o.stride
             reach = 0.5 * (s + bs) * o.stride
-            w[(np.abs((xs + 0.5 * s) * o.stride - best_c[0]) > reach)
-              | (np.abs((ys + 0.5 * s) * o.stride - best_c[1]) > reach)] = 0.0
+            w[:, np.abs(gx - best_c[0]) > reach] = 0.0
+            w[np.abs(gy - best_c[1]) > reach] = 0.0
             tot = float(w.sum())
             if tot < 1e-12:
                 continue
-            cx = ((xs + 0.5 * s) * o.stride * w).sum()
-            cy = ((ys + 0.5 * s) * o.stride * w).sum()
+            cx = (gx[None, :] * w).sum()
+            cy = (gy[:, None] * w).sum()
             acc += (cx, cy, s * o.stride * tot)
             wsum += tot
         x, y, scale = acc / wsum

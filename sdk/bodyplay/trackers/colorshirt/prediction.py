@@ -12,7 +12,6 @@ balance is refitted (step 5).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import cv2
 import numba
@@ -26,9 +25,6 @@ from bodyplay.capture.camera import Camera
 from bodyplay.render.idmap import project_vertices, rasterize_ids
 
 __all__ = ["CropWindow", "RenderedPose", "PoseRenderer", "PatchStats", "patch_stats"]
-
-_FAR = 1.0e4
-
 
 @dataclass(frozen=True)
 class CropWindow:
@@ -92,36 +88,6 @@ def patch_stats(ids: NDArray[np.uint8], depth: NDArray[np.float32] | None = None
     return PatchStats(count, c), mean_depth
 
 
-@numba.njit(cache=True, nogil=True)
-def _penalty(dists: NDArray[Any], patch: NDArray[np.uint8], color: NDArray[np.int64],
-             strength: np.float32, far: np.float32, n_colors: int
-             ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:  # pragma: no cover - compiled
-    """Per pixel and color, ``strength`` times the least distance to a patch of that
-    color (``far`` with none) and that patch (the first of equal ones; 0 with none):
-    ``dists[j]`` is the distance map of patch ``patch[j]`` of color ``color[j]``."""
-    m, h, w = dists.shape
-    pen = np.empty((h, w, n_colors), np.float32)
-    owner = np.zeros((h, w, n_colors), np.uint8)
-    best = np.empty(n_colors, np.float32)
-    seen = np.zeros(n_colors, np.bool_)
-    for y in range(h):
-        for x in range(w):
-            seen[:] = False
-            for j in range(m):
-                k = color[j]
-                d = dists[j, y, x]
-                if not seen[k]:
-                    seen[k] = True
-                    best[k] = d
-                    owner[y, x, k] = patch[j]
-                elif d < best[k]:
-                    best[k] = d
-                    owner[y, x, k] = patch[j]
-            for k in range(n_colors):
-                pen[y, x, k] = strength * best[k] if seen[k] else far
-    return pen, owner
-
-
 @dataclass(frozen=True, eq=False)
 class RenderedPose:
     """A pose rendered in a crop: patch ids (0 = none), depth, and per-patch stats."""
@@ -177,6 +143,15 @@ class PoseRenderer:
         assert mean_depth is not None
         return RenderedPose(ids, depth, stats, mean_depth)
 
+    def silhouette(self, verts: NDArray[np.float32], camera: Camera, window: CropWindow
+                   ) -> NDArray[np.uint8]:
+        """1 where posed vertices seen by ``camera`` cover a pixel of ``window`` (any
+        face, skin included; where :meth:`render` has a finite depth), else 0."""
+        uvz = project_vertices(verts, camera)
+        uvz[:, 0] = (uvz[:, 0] - window.x0) * window.scale
+        uvz[:, 1] = (uvz[:, 1] - window.y0) * window.scale
+        return rasterize_ids(uvz, self.mesh.faces, None, window.width, window.height)
+
     def anchor_world(self, rendered: RenderedPose, camera: Camera, window: CropWindow,
                      patches: NDArray[np.int64]) -> NDArray[np.float64]:
         """(A, 3) world points that project on the rendered centroids of ``patches``."""
@@ -187,25 +162,22 @@ class PoseRenderer:
         pc = rays * z[:, None]
         return (pc - camera.t) @ camera.R
 
-    def prior_penalty(self, rendered: RenderedPose, strength: float, min_pixels: int
-                      ) -> tuple[NDArray[np.float32], NDArray[np.uint8]]:
-        """The step-3 prior ``C d(r_b, k)`` (H, W, 10) and the nearer patch of each color.
-
-        Colors with no predicted pixel get a prohibitive penalty: the pose rules them
-        out. The second array (H, W, 10) holds, per pixel and color, the patch id
-        (of that color's two) nearest to the pixel, 0 when neither is predicted.
-        """
-        dists, patch, color = [], [], []
-        for k, pats in enumerate(self.color_patches):
-            for p in pats:
-                if rendered.stats.count[p] < min_pixels:
-                    continue
-                src = np.not_equal(rendered.patches, p).view(np.uint8)  # 0 on the patch
-                dists.append(cv2.distanceTransform(src, cv2.DIST_L2, 3))
-                patch.append(p)
-                color.append(k)
+    def patch_distances(self, rendered: RenderedPose, min_pixels: int
+                        ) -> tuple[NDArray[np.float32], NDArray[np.uint8], NDArray[np.int64]]:
+        """The step-3 prior's distances: (M, H, W) distance from each pixel to the
+        nearest predicted pixel of each patch rendered on at least ``min_pixels``
+        pixels, with those patches' ids and colors (for
+        :meth:`.colors.ColorModel.classify_near`, which makes the penalty ``C d(r_b, k)``
+        of a color from its patches' distances; a color with none is ruled out)."""
+        patch = [p for k, pats in enumerate(self.color_patches) for p in pats
+                 if rendered.stats.count[p] >= min_pixels]
+        cidx = patch_color_index()
         h, w = rendered.patches.shape
-        stack = np.stack(dists) if dists else np.zeros((0, h, w), np.float32)
-        pen, owner = _penalty(stack, np.array(patch, np.uint8), np.array(color, np.int64),
-                              np.float32(strength), np.float32(_FAR), NUM_COLORS)
-        return pen, owner
+        dists = np.empty((len(patch), h, w), np.float32)
+        for j, p in enumerate(patch):
+            src = np.not_equal(rendered.patches, p).view(np.uint8)  # 0 on the patch
+            out = cv2.distanceTransform(src, cv2.DIST_L2, 3, dst=dists[j])
+            if out.ctypes.data != dists[j].ctypes.data:  # not written in place
+                dists[j] = out
+        return (dists, np.array(patch, np.uint8),
+                np.array([cidx[p] for p in patch], np.int64))

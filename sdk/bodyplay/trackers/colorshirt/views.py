@@ -268,8 +268,12 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         if o.adaptive_white_balance:
             st.references.add(auto.W)
     assert st.W is not None
-    cls = model.classify(crop, st.W, o.threshold, mask)
-    W = st.W
+    W = W0 = st.W
+    wide = None
+    if noise_model is not model:  # both classifications in one pass
+        cls, wide = model.classify_pair(crop, W, o.threshold, mask, noise_model)
+    else:
+        cls = model.classify(crop, W, o.threshold, mask)
     frac = cls.fraction_classified(fg)
     # the paper's test (under 40% classified), plus a sudden halving of the
     # classified share: a light switched on or off
@@ -293,7 +297,8 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         # W was chosen with the plain model (a looser one would favour large gains);
         # the classification itself allows for the noise W amplifies, unless that
         # more than doubles what the plain model found: background creeping in
-        wide = noise_model.classify(crop, W, o.threshold, mask)
+        if wide is None or W is not W0:  # W changed on a retry: classify again
+            wide = noise_model.classify(crop, W, o.threshold, mask)
         if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
             cls = wide
     return W, cls.ids
