@@ -50,6 +50,16 @@ def test_cross_view_finds_the_room_both_cameras_see_and_not_the_player_before_it
     assert same[0][player].mean() < 0.05
 
 
+def test_cross_view_answers_only_the_cameras_that_need_it_the_same() -> None:
+    a, b = _frames(player_shift=40)
+    full = CrossView(2).room([a, b], [None, None], 2)
+    view = CrossView(2)
+    assert view.room([a, b], [None, None], 2, [False, False]) == [None, None]
+    part = view.room([a, b], [None, None], 2, [False, True])
+    assert part[0] is None and part[1] is not None and full[1] is not None
+    assert np.array_equal(part[1], full[1])
+
+
 def test_cross_view_gives_nothing_with_one_camera_or_a_player_against_the_wall() -> None:
     a, b = _frames(player_shift=SHIFT)  # the player maps exactly like the room
     assert CrossView(1).room([a], [None], 2) == [None]

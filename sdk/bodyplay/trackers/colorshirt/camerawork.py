@@ -163,10 +163,11 @@ class CameraWork:
         if not o.room_plate:
             return
         alike: list[NDArray[np.bool_] | None] = [None] * len(states)
-        if self.crossview is not None:
+        if self.crossview is not None:  # only where no empty room was seen (below)
             alike = self.crossview.room([st.reduced for st in states],  # type: ignore[misc]
                                         [st.torso_box if st.last_box is not None else None
-                                         for st in states], _REDUCE)
+                                         for st in states], _REDUCE,
+                                        [not st.floor.plate.ready for st in states])
         for st, same in zip(states, alike, strict=True):
             if st.reduced is not None:  # the other cameras' word stands in for an empty
                 # room never seen: once the floor cue's plate learned one, its mask

@@ -99,12 +99,15 @@ class CrossView:
                 self._H[(b, a)] = np.asarray(np.linalg.inv(H), np.float64)
 
     def room(self, smalls: list[NDArray[np.uint8]], torso: list[Box | None],
-             downscale: int) -> list[NDArray[np.bool_] | None]:
+             downscale: int, needed: list[bool] | None = None
+             ) -> list[NDArray[np.bool_] | None]:
         """Per camera, its pixels (at the images' reduced resolution) that another
         camera shows as the same room; None where no camera can tell.
 
         ``smalls``: every camera's frame, reduced by ``downscale``; ``torso``: each
-        camera's torso box of the last pose (full-resolution pixels, or None).
+        camera's torso box of the last pose (full-resolution pixels, or None);
+        ``needed``: the cameras whose answer is wanted (default all; None for the
+        others, the homography's search goes on as if all were).
         """
         out: list[NDArray[np.bool_] | None] = [None] * len(smalls)
         if len(smalls) < 2:
@@ -117,8 +120,12 @@ class CrossView:
             if not self._H:
                 self._wait = self.retry
                 return out
+        if needed is not None and not any(needed):
+            return out
         blurred = [cv2.blur(s, (3, 3)).astype(np.float32) for s in smalls]
         for a, fa in enumerate(blurred):
+            if needed is not None and not needed[a]:
+                continue
             h, w = fa.shape[:2]
             same = np.zeros((h, w), bool)
             for b, fb in enumerate(blurred):
