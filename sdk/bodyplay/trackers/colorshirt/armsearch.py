@@ -388,15 +388,6 @@ class ArmSearches:
         self._inputs = [*self._inputs[-7:], (view.ids, arm)]
         return arm
 
-    def hold(self, renderer: PoseRenderer, q: NDArray[np.float64],
-             previous: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``q`` with both arms (clavicle to wrist rotations) of ``previous``."""
-        out = q.copy()
-        for s in ARM_NODES:
-            cols = _arm_columns(renderer.skeleton, s)
-            out[cols] = previous[cols]
-        return out
-
     def search(self, body: str, renderer: PoseRenderer, q: NDArray[np.float64],
                cameras: tuple[Camera, ...], views: list[CameraView],
                previous: NDArray[np.float64] | None, tau: float, temperature: float,

@@ -65,10 +65,7 @@ class ColorShirtOptions:
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated
       chamfer (``arm_tau``), blended by ``arm_temperature``, ``arm_shortlist`` per
       arm to the pairwise stage (:mod:`.armsearch`); with one camera each candidate
-      pays ``arm_depth_pull`` for leaving the blend's depth. ``arm_hold``: after a
-      good fit (``good_residual``) the placed blend takes the last pose's arms
-      instead of searching, for at most this many frames in a row (0: search every
-      frame).
+      pays ``arm_depth_pull`` for leaving the blend's depth.
     * ``plate_mask``: classify only pixels unlike the learned background plate (it
       replaces MOG2's mask with at most ``plate_mask_alone_cameras`` cameras);
       ``room_plate``: learn the room from what the player uncovers (silhouette grown
@@ -135,7 +132,6 @@ class ColorShirtOptions:
     arm_temperature: float = 0.02
     arm_shortlist: int = 24
     arm_depth_pull: float = 0.01
-    arm_hold: int = 0
     plate_mask: bool = True
     room_plate: bool = True
     cross_view: bool = True
@@ -226,7 +222,6 @@ _RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
     ("arm_library", 1, 100_000, False, " arm configurations"),
     ("arm_temperature", 0, 1, False, " (0: take the best arm)"),
     ("arm_shortlist", 1, 200, False, " candidates per arm"),
-    ("arm_hold", 0, 1000, False, " frames (0: the arm search every frame)"),
     ("room_margin", 0.0, 1.0, False, " of the silhouette's size"),
     ("good_residual", 0.0, 1.0, True, " shirt sizes"),
     ("plate_mask_alone_cameras", 0, 16, False,

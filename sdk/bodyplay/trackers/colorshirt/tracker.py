@@ -126,8 +126,6 @@ class ColorShirtTracker:
         self._ever_reported = False
         self._good = False
         """Whether the last pose reported fitted well (``good_residual``)."""
-        self._held_arms = 0
-        """Frames in a row whose blend took the last pose's arms (``arm_hold``)."""
         self._last_t: float | None = None
         self._gate = SpeedGate(self.options.max_speed, self.options.good_residual)
         """The last pose reported and the last fit rejected (:mod:`.gates`)."""
@@ -212,11 +210,7 @@ class ColorShirtTracker:
         if self._selection is not None and self._selection.chosen is None:
             fit = self._select_body(views)
         else:
-            o = self.options
-            hold = (o.arm_hold > 0 and self._good and self._prev is not None
-                    and self._held_arms < o.arm_hold)
-            self._held_arms = self._held_arms + 1 if hold else 0
-            fit = self._estimate(views, self._prev, hold_arms=hold)
+            fit = self._estimate(views, self._prev)
             if fit is not None and not self._plausible(fit.q, fit.views):
                 fit = None
         if fit is not None and not self._gate.admits(
@@ -460,15 +454,14 @@ class ColorShirtTracker:
         return self.placement.place(lead, [v for v in views if v is not lead])
 
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
-                  search_one: bool = True, placed: NDArray[np.float64] | None = None,
-                  hold_arms: bool = False) -> BodyFit:
+                  search_one: bool = True, placed: NDArray[np.float64] | None = None
+                  ) -> BodyFit:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
 
         ``search_one``: whether a frame that one camera sees gets the arm search
         (with its pull towards the blend's arms). The start-up's candidates are
         judged without it: its arms fit every preset's size about equally, and the
         choice got noisier. ``placed``: :meth:`_placed` of ``views`` if already known.
-        ``hold_arms``: the placed blend takes ``prev_q``'s arms, no search (``arm_hold``).
         """
         o = self.options
         q_b = self._placed(views) if placed is None else placed.copy()
@@ -480,9 +473,7 @@ class ColorShirtTracker:
         q_b, root_priors = self._place_root(q_b, anchors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
-        if hold_arms and prev_q is not None:
-            q_b = self._arms.hold(self.renderer, q_b, prev_q)
-        elif o.arm_search and (not one or search_one):
+        if o.arm_search and (not one or search_one):
             q_b, self.diagnostics["arms"] = self._arms.search(
                 self.body.name, self.renderer, q_b, self.cameras, views, prev_q,
                 o.arm_tau, o.arm_temperature, o.arm_shortlist,
