@@ -153,17 +153,3 @@ def test_classify_near_is_classify_with_the_penalty_map_of_the_patch_distances()
     want = np.where(ref > 0, np.take_along_axis(near, k[..., None], axis=2)[..., 0], 0)
     assert np.array_equal(owner, want)
 
-
-def test_classify_pair_is_both_models_classifications() -> None:
-    rng = np.random.default_rng(3)
-    img = clutter(60, 56, rng)
-    paint_shirt(img, 4, 4, 10, rng)
-    plain = default_color_model()
-    wide = dataclasses.replace(plain, measurement_noise=6.0)
-    W = np.array([[1.6, 0.05, 0.0], [0.02, 1.4, 0.0], [0.0, 0.03, 1.9]])
-    mask = rng.random(img.shape[:2]) > 0.2
-    a, b = plain.classify_pair(img, W, 3.0, mask, wide)
-    ra, rb = plain.classify(img, W, 3.0, mask), wide.classify(img, W, 3.0, mask)
-    assert np.array_equal(a.ids, ra.ids) and np.array_equal(a.distance, ra.distance)
-    assert np.array_equal(b.ids, rb.ids) and np.array_equal(b.distance, rb.distance)
-    assert np.count_nonzero(b.ids) > np.count_nonzero(a.ids)

@@ -40,6 +40,39 @@ _RIDGE = 4.0  # added to every covariance diagonal (RGB units squared): keeps it
 
 
 @numba.njit(cache=True, nogil=True)
+def _nearest_color(  # pragma: no cover - compiled
+    image: NDArray[np.uint8], y: int, x: int, W: NDArray[np.float32],
+    means: NDArray[np.float32], linv: NDArray[np.float32], penalty: NDArray[np.float32],
+    use_penalty: bool,
+) -> tuple[np.float32, int]:
+    """Pixel ``(y, x)`` white-balanced by ``W``: the least Mahalanobis distance to the
+    colors (plus ``penalty[c]`` if ``use_penalty``) and its color (-1 with none)."""
+    r = np.float32(image[y, x, 0])
+    g = np.float32(image[y, x, 1])
+    b = np.float32(image[y, x, 2])
+    p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
+    p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
+    p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
+    bd = np.float32(np.inf)
+    bk = -1
+    for c in range(means.shape[0]):
+        d0 = p0 - means[c, 0]
+        d1 = p1 - means[c, 1]
+        d2 = p2 - means[c, 2]
+        # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
+        z0 = linv[c, 0, 0] * d0
+        z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
+        z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
+        dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+        if use_penalty:
+            dist += penalty[c]
+        if dist < bd:
+            bd = dist
+            bk = c
+    return bd, bk
+
+
+@numba.njit(cache=True, nogil=True)
 def _classify_kernel(  # pragma: no cover - compiled
     image: NDArray[np.uint8],
     W: NDArray[np.float32],
@@ -52,96 +85,19 @@ def _classify_kernel(  # pragma: no cover - compiled
     use_penalty: bool,
 ) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
     h, w = image.shape[0], image.shape[1]
-    k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
     best = np.full((h, w), np.inf, np.float32)
     for y in range(h):
         for x in range(w):
             if use_mask and not mask[y, x]:
                 continue
-            r = np.float32(image[y, x, 0])
-            g = np.float32(image[y, x, 1])
-            b = np.float32(image[y, x, 2])
-            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-            bd = np.float32(np.inf)
-            bk = -1
-            for c in range(k):
-                d0 = p0 - means[c, 0]
-                d1 = p1 - means[c, 1]
-                d2 = p2 - means[c, 2]
-                # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
-                z0 = linv[c, 0, 0] * d0
-                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-                if use_penalty:
-                    dist += penalty[y, x, c]
-                if dist < bd:
-                    bd = dist
-                    bk = c
+            bd, bk = _nearest_color(image, y, x, W, means, linv,
+                                    penalty[y, x] if use_penalty else penalty[0, 0],
+                                    use_penalty)
             best[y, x] = bd
             if bd < threshold:
                 ids[y, x] = bk + 1
     return ids, best
-
-
-@numba.njit(cache=True, nogil=True)
-def _classify_pair_kernel(  # pragma: no cover - compiled
-    image: NDArray[np.uint8],
-    W: NDArray[np.float32],
-    means_a: NDArray[np.float32],
-    linv_a: NDArray[np.float32],
-    means_b: NDArray[np.float32],
-    linv_b: NDArray[np.float32],
-    threshold: float,
-    mask: NDArray[np.bool_],
-    use_mask: bool,
-) -> tuple[NDArray[np.uint8], NDArray[np.float32], NDArray[np.uint8], NDArray[np.float32]]:
-    """:func:`_classify_kernel` of two models (means and inverse factors ``a`` and
-    ``b``) in one pass over the pixels, each the same operations as alone."""
-    h, w = image.shape[0], image.shape[1]
-    k = means_a.shape[0]
-    ids_a = np.zeros((h, w), np.uint8)
-    best_a = np.full((h, w), np.inf, np.float32)
-    ids_b = np.zeros((h, w), np.uint8)
-    best_b = np.full((h, w), np.inf, np.float32)
-    for y in range(h):
-        for x in range(w):
-            if use_mask and not mask[y, x]:
-                continue
-            r = np.float32(image[y, x, 0])
-            g = np.float32(image[y, x, 1])
-            b = np.float32(image[y, x, 2])
-            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-            for model in range(2):
-                means = means_a if model == 0 else means_b
-                linv = linv_a if model == 0 else linv_b
-                bd = np.float32(np.inf)
-                bk = -1
-                for c in range(k):
-                    d0 = p0 - means[c, 0]
-                    d1 = p1 - means[c, 1]
-                    d2 = p2 - means[c, 2]
-                    z0 = linv[c, 0, 0] * d0
-                    z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-                    z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-                    dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-                    if dist < bd:
-                        bd = dist
-                        bk = c
-                if model == 0:
-                    best_a[y, x] = bd
-                    if bd < threshold:
-                        ids_a[y, x] = bk + 1
-                else:
-                    best_b[y, x] = bd
-                    if bd < threshold:
-                        ids_b[y, x] = bk + 1
-    return ids_a, best_a, ids_b, best_b
 
 
 @numba.njit(cache=True, nogil=True)
@@ -166,10 +122,10 @@ def _classify_near_kernel(  # pragma: no cover - compiled
     patch of its color that gave that least distance (the first of equal ones)."""
     h, w = image.shape[0], image.shape[1]
     k = means.shape[0]
-    m = dists.shape[0]
     ids = np.zeros((h, w), np.uint8)
     owner = np.zeros((h, w), np.uint8)
     best = np.empty(k, np.float32)
+    pen = np.empty(k, np.float32)
     near = np.zeros(k, np.uint8)
     seen = np.zeros(k, np.bool_)
     for y in range(h):
@@ -177,40 +133,41 @@ def _classify_near_kernel(  # pragma: no cover - compiled
             if use_mask and not mask[y, x]:
                 continue
             seen[:] = False
-            for j in range(m):
+            for j in range(dists.shape[0]):
                 c = color[j]
                 d = dists[j, y, x]
-                if not seen[c]:
+                if not seen[c] or d < best[c]:
                     seen[c] = True
                     best[c] = d
                     near[c] = patch[j]
-                elif d < best[c]:
-                    best[c] = d
-                    near[c] = patch[j]
-            r = np.float32(image[y, x, 0])
-            g = np.float32(image[y, x, 1])
-            b = np.float32(image[y, x, 2])
-            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-            bd = np.float32(np.inf)
-            bk = -1
             for c in range(k):
-                d0 = p0 - means[c, 0]
-                d1 = p1 - means[c, 1]
-                d2 = p2 - means[c, 2]
-                z0 = linv[c, 0, 0] * d0
-                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-                dist += strength * best[c] if seen[c] else far
-                if dist < bd:
-                    bd = dist
-                    bk = c
+                pen[c] = strength * best[c] if seen[c] else far
+            bd, bk = _nearest_color(image, y, x, W, means, linv, pen, True)
             if bd < threshold:
                 ids[y, x] = bk + 1
                 owner[y, x] = near[bk] if seen[bk] else 0
     return ids, owner
+
+
+def _checked(image: NDArray[np.uint8], white_balance: ArrayLike | None,
+             mask: NDArray[np.bool_] | None
+             ) -> tuple[NDArray[np.uint8], NDArray[np.float32], NDArray[np.bool_]]:
+    """A classification's image, ``W`` (float32, identity when None) and mask (a 1x1
+    placeholder when None), checked."""
+    img = np.ascontiguousarray(image)
+    if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
+        raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
+    W = np.eye(3, dtype=np.float32) if white_balance is None else np.asarray(
+        white_balance, dtype=np.float32
+    )
+    if W.shape != (3, 3):
+        raise ConfigError(f"white balance must be 3x3, got {W.shape}")
+    if mask is None:
+        return img, W, np.ones((1, 1), np.bool_)
+    m = np.ascontiguousarray(mask, dtype=np.bool_)
+    if m.shape != img.shape[:2]:
+        raise ConfigError(f"mask shape {m.shape} does not match image {img.shape[:2]}")
+    return img, W, m
 
 
 @dataclass(frozen=True, eq=False)
@@ -340,21 +297,8 @@ class ColorModel:
         background-subtraction mask); ``penalty`` (H, W, 10) is added to each color's
         distance before the arg-min and the threshold (the pose prior ``C d``).
         """
-        img = np.ascontiguousarray(image)
-        if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
-            raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
-        W = np.eye(3, dtype=np.float32) if white_balance is None else np.asarray(
-            white_balance, dtype=np.float32
-        )
-        if W.shape != (3, 3):
-            raise ConfigError(f"white balance must be 3x3, got {W.shape}")
+        img, W, m = _checked(image, white_balance, mask)
         h, w = img.shape[:2]
-        use_mask = mask is not None
-        m = np.ascontiguousarray(mask, dtype=np.bool_) if mask is not None else np.ones(
-            (1, 1), np.bool_
-        )
-        if use_mask and m.shape != (h, w):
-            raise ConfigError(f"mask shape {m.shape} does not match image {(h, w)}")
         use_pen = penalty is not None
         pen = np.ascontiguousarray(penalty, dtype=np.float32) if penalty is not None else np.zeros(
             (1, 1, NUM_COLORS), np.float32
@@ -362,37 +306,10 @@ class ColorModel:
         if use_pen and pen.shape != (h, w, NUM_COLORS):
             raise ConfigError(f"penalty must be {(h, w, NUM_COLORS)}, got {pen.shape}")
         ids, best = _classify_kernel(
-            img, W, self._means32, self.effective_inverse(W), float(threshold), m, use_mask,
-            pen, use_pen
+            img, W, self._means32, self.effective_inverse(W), float(threshold), m,
+            mask is not None, pen, use_pen
         )
         return Classification(ids, best)
-
-    def classify_pair(
-        self,
-        image: NDArray[np.uint8],
-        white_balance: ArrayLike,
-        threshold: float,
-        mask: NDArray[np.bool_] | None,
-        other: ColorModel,
-    ) -> tuple[Classification, Classification]:
-        """:meth:`classify` with this model and with ``other`` (a wider one, say), the
-        same two results in one pass over the pixels."""
-        img = np.ascontiguousarray(image)
-        if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
-            raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
-        W = np.asarray(white_balance, dtype=np.float32)
-        if W.shape != (3, 3):
-            raise ConfigError(f"white balance must be 3x3, got {W.shape}")
-        h, w = img.shape[:2]
-        use_mask = mask is not None
-        m = np.ascontiguousarray(mask, dtype=np.bool_) if mask is not None else np.ones(
-            (1, 1), np.bool_)
-        if use_mask and m.shape != (h, w):
-            raise ConfigError(f"mask shape {m.shape} does not match image {(h, w)}")
-        ids_a, best_a, ids_b, best_b = _classify_pair_kernel(
-            img, W, self._means32, self.effective_inverse(W), other._means32,
-            other.effective_inverse(W), float(threshold), m, use_mask)
-        return Classification(ids_a, best_a), Classification(ids_b, best_b)
 
     def classify_near(
         self,
@@ -412,27 +329,15 @@ class ColorModel:
         ``far`` when none of its patches is given. Returns the color id map and, per
         classified pixel, the patch of its color nearest to it (0 elsewhere): the same
         as classifying with the (H, W, 10) penalty map, without making it."""
-        img = np.ascontiguousarray(image)
-        if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
-            raise ConfigError(f"expected an (H, W, 3) uint8 RGB image, got {img.shape} {img.dtype}")
-        W = np.asarray(white_balance, dtype=np.float32)
-        if W.shape != (3, 3):
-            raise ConfigError(f"white balance must be 3x3, got {W.shape}")
-        h, w = img.shape[:2]
+        img, W, m = _checked(image, white_balance, mask)
         d = np.ascontiguousarray(distances, dtype=np.float32)
-        if d.ndim != 3 or d.shape[1:] != (h, w) or len(patch) != len(d) or len(color) != len(d):
-            raise ConfigError(f"distances must be (M, {h}, {w}) with M patches and colors, "
-                              f"got {d.shape}, {len(patch)}, {len(color)}")
-        use_mask = mask is not None
-        m = np.ascontiguousarray(mask, dtype=np.bool_) if mask is not None else np.ones(
-            (1, 1), np.bool_)
-        if use_mask and m.shape != (h, w):
-            raise ConfigError(f"mask shape {m.shape} does not match image {(h, w)}")
-        ids, owner = _classify_near_kernel(
-            img, W, self._means32, self.effective_inverse(W), float(threshold), m, use_mask,
-            d, np.ascontiguousarray(patch, np.uint8), np.ascontiguousarray(color, np.int64),
-            np.float32(strength), np.float32(far))
-        return ids, owner
+        if d.ndim != 3 or d.shape[1:] != img.shape[:2] or not len(patch) == len(color) == len(d):
+            raise ConfigError(f"distances must be (M, H, W) of the image with M patches and "
+                              f"colors, got {d.shape}, {len(patch)}, {len(color)}")
+        return _classify_near_kernel(
+            img, W, self._means32, self.effective_inverse(W), float(threshold), m,
+            mask is not None, d, np.ascontiguousarray(patch, np.uint8),
+            np.ascontiguousarray(color, np.int64), np.float32(strength), np.float32(far))
 
     # ---- persistence ---------------------------------------------------------------
     def to_dict(self) -> dict[str, object]:

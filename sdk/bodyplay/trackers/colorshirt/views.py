@@ -134,92 +134,6 @@ def _blob_reach(labels: NDArray[Any], sel: NDArray[np.bool_], gap: NDArray[Any],
     return nearest, bottom, left, right
 
 
-@numba.njit(cache=True, nogil=True)
-def _blob_hist(labels: NDArray[Any], ids: NDArray[np.uint8], core: NDArray[np.uint8],
-               n: int, m: int) -> NDArray[np.int64]:  # pragma: no cover - compiled
-    """(n, m) count of the ``core`` pixels of each label and class id."""
-    hist = np.zeros((n, m), np.int64)
-    h, w = labels.shape
-    for y in range(h):
-        for x in range(w):
-            if core[y, x]:
-                hist[labels[y, x], ids[y, x]] += 1
-    return hist
-
-
-@numba.njit(cache=True, nogil=True)
-def _label_box(labels: NDArray[Any], core: NDArray[np.uint8], label: int
-               ) -> tuple[int, int, int, int]:  # pragma: no cover - compiled
-    """Least and greatest column and row of the ``core`` pixels of ``label`` (it has some)."""
-    h, w = labels.shape
-    x0, y0, x1, y1 = w, h, -1, -1
-    for y in range(h):
-        for x in range(w):
-            if core[y, x] and labels[y, x] == label:
-                x0 = min(x0, x)
-                x1 = max(x1, x)
-                y0 = min(y0, y)
-                y1 = max(y1, y)
-    return x0, x1, y0, y1
-
-
-@numba.njit(cache=True, nogil=True)
-def _chessboard_to(labels: NDArray[Any], label: int) -> NDArray[np.int32]:  # pragma: no cover
-    """Chessboard distance (pixels, the 8-neighbourhood) of every pixel to the nearest
-    pixel of ``label`` (it has some), by the two raster passes, exact."""
-    h, w = labels.shape
-    big = np.int32(h + w + 2)
-    d = np.empty((h, w), np.int32)
-    for y in range(h):
-        for x in range(w):
-            if labels[y, x] == label:
-                d[y, x] = 0
-                continue
-            v = big
-            if x > 0:
-                v = min(v, d[y, x - 1] + 1)
-            if y > 0:
-                v = min(v, d[y - 1, x] + 1)
-                if x > 0:
-                    v = min(v, d[y - 1, x - 1] + 1)
-                if x < w - 1:
-                    v = min(v, d[y - 1, x + 1] + 1)
-            d[y, x] = v
-    for y in range(h - 1, -1, -1):
-        for x in range(w - 1, -1, -1):
-            v = d[y, x]
-            if x < w - 1:
-                v = min(v, d[y, x + 1] + 1)
-            if y < h - 1:
-                v = min(v, d[y + 1, x] + 1)
-                if x < w - 1:
-                    v = min(v, d[y + 1, x + 1] + 1)
-                if x > 0:
-                    v = min(v, d[y + 1, x - 1] + 1)
-            d[y, x] = v
-    return d
-
-
-@numba.njit(cache=True, nogil=True)
-def _joined(labels: NDArray[Any], bridged: NDArray[Any], core: NDArray[np.uint8], main: int,
-            n: int, m: int) -> NDArray[np.bool_]:  # pragma: no cover - compiled
-    """Per label, whether a ``core`` pixel of it lies in the component of ``bridged``
-    (``m`` components) holding most of ``main``'s pixels (the first of equal ones)."""
-    h, w = labels.shape
-    count = np.zeros(m, np.int64)
-    for y in range(h):
-        for x in range(w):
-            if labels[y, x] == main:
-                count[bridged[y, x]] += 1
-    shirt = np.argmax(count)
-    joined = np.zeros(n, np.bool_)
-    for y in range(h):
-        for x in range(w):
-            if core[y, x] and bridged[y, x] == shirt:
-                joined[labels[y, x]] = True
-    return joined
-
-
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
               attach_fraction: float = 0.1,
               sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
@@ -254,7 +168,9 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
                             np.ones((3, 3), np.uint8))
     grown = cv2.dilate(core, np.ones((5, 5), np.uint8))
     n, labels = cv2.connectedComponents(grown, connectivity=8)
-    hist = _blob_hist(labels, ids, core, n, NUM_COLORS + 1)
+    sel = core > 0
+    hist = np.bincount(labels[sel] * (NUM_COLORS + 1) + ids[sel],
+                       minlength=n * (NUM_COLORS + 1)).reshape(n, NUM_COLORS + 1)
     area = hist.sum(axis=1)
     n_colors = (hist[:, 1:] >= np.maximum(3, 0.03 * area)[:, None]).sum(axis=1)
     valid = n_colors >= 2
@@ -262,22 +178,21 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     if not valid.any():
         return np.zeros_like(ids)
     main = int(np.argmax(np.where(valid, area, 0)))
-    xlo, xhi, ylo, yhi = _label_box(labels, core, main)
-    extent = max(xhi - xlo, yhi - ylo)
+    ys, xs = np.nonzero(core * (labels == main))
+    extent = max(np.ptp(xs), np.ptp(ys))
     keep = valid & (area >= blob_fraction * area[main])
     sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
     sleeve_reach = int(sleeve_attach * extent)
     if max(reach, sleeve_reach) > 0:
         # each blob's least chessboard distance (the square neighbourhood) to the shirt
-        sel = core > 0
-        gap = _chessboard_to(labels, main)
+        gap = cv2.distanceTransform((labels != main).astype(np.uint8), cv2.DIST_C, 3)
         nearest, bottom, left, right = _blob_reach(labels, sel, gap, n)
         if reach > 0:
             keep |= (nearest <= reach) & (valid | sleeve)
         if sleeve_reach > 0:
             # over the head: above the shirt's top and within its columns
-            over = (bottom < ylo) & (left >= xlo) & (right <= xhi)
+            over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
             # two forearms: two sleeve colors, each more than a few pixels
             two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
                 axis=1) >= 2
@@ -299,8 +214,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
                     keep |= candidate & (from_arm <= sleeve_reach)
     # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
     bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
-    m, bridged = cv2.connectedComponents(bridge, connectivity=8)
-    keep |= _joined(labels, bridged, core, main, n, m) & valid & sleeve
+    _, bridged = cv2.connectedComponents(bridge, connectivity=8)
+    shirt = np.bincount(bridged[labels == main]).argmax()
+    joined = np.bincount(labels[(bridged == shirt) & sel], minlength=n) > 0
+    keep |= joined & valid & sleeve
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
     near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
@@ -351,12 +268,8 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         if o.adaptive_white_balance:
             st.references.add(auto.W)
     assert st.W is not None
-    W = W0 = st.W
-    wide = None
-    if noise_model is not model:  # both classifications in one pass
-        cls, wide = model.classify_pair(crop, W, o.threshold, mask, noise_model)
-    else:
-        cls = model.classify(crop, W, o.threshold, mask)
+    cls = model.classify(crop, st.W, o.threshold, mask)
+    W = st.W
     frac = cls.fraction_classified(fg)
     # the paper's test (under 40% classified), plus a sudden halving of the
     # classified share: a light switched on or off
@@ -380,8 +293,7 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         # W was chosen with the plain model (a looser one would favour large gains);
         # the classification itself allows for the noise W amplifies, unless that
         # more than doubles what the plain model found: background creeping in
-        if wide is None or W is not W0:  # W changed on a retry: classify again
-            wide = noise_model.classify(crop, W, o.threshold, mask)
+        wide = noise_model.classify(crop, W, o.threshold, mask)
         if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
             cls = wide
     return W, cls.ids
