@@ -40,39 +40,6 @@ _RIDGE = 4.0  # added to every covariance diagonal (RGB units squared): keeps it
 
 
 @numba.njit(cache=True, nogil=True)
-def _nearest_color(  # pragma: no cover - compiled
-    image: NDArray[np.uint8], y: int, x: int, W: NDArray[np.float32],
-    means: NDArray[np.float32], linv: NDArray[np.float32], penalty: NDArray[np.float32],
-    use_penalty: bool,
-) -> tuple[np.float32, int]:
-    """Pixel ``(y, x)`` white-balanced by ``W``: the least Mahalanobis distance to the
-    colors (plus ``penalty[c]`` if ``use_penalty``) and its color (-1 with none)."""
-    r = np.float32(image[y, x, 0])
-    g = np.float32(image[y, x, 1])
-    b = np.float32(image[y, x, 2])
-    p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-    p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-    p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-    bd = np.float32(np.inf)
-    bk = -1
-    for c in range(means.shape[0]):
-        d0 = p0 - means[c, 0]
-        d1 = p1 - means[c, 1]
-        d2 = p2 - means[c, 2]
-        # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
-        z0 = linv[c, 0, 0] * d0
-        z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-        z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-        dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-        if use_penalty:
-            dist += penalty[c]
-        if dist < bd:
-            bd = dist
-            bk = c
-    return bd, bk
-
-
-@numba.njit(cache=True, nogil=True)
 def _classify_kernel(  # pragma: no cover - compiled
     image: NDArray[np.uint8],
     W: NDArray[np.float32],
@@ -85,15 +52,35 @@ def _classify_kernel(  # pragma: no cover - compiled
     use_penalty: bool,
 ) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
     h, w = image.shape[0], image.shape[1]
+    k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
     best = np.full((h, w), np.inf, np.float32)
     for y in range(h):
         for x in range(w):
             if use_mask and not mask[y, x]:
                 continue
-            bd, bk = _nearest_color(image, y, x, W, means, linv,
-                                    penalty[y, x] if use_penalty else penalty[0, 0],
-                                    use_penalty)
+            r = np.float32(image[y, x, 0])
+            g = np.float32(image[y, x, 1])
+            b = np.float32(image[y, x, 2])
+            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
+            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
+            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
+            bd = np.float32(np.inf)
+            bk = -1
+            for c in range(k):
+                d0 = p0 - means[c, 0]
+                d1 = p1 - means[c, 1]
+                d2 = p2 - means[c, 2]
+                # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
+                z0 = linv[c, 0, 0] * d0
+                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
+                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
+                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+                if use_penalty:
+                    dist += penalty[y, x, c]
+                if dist < bd:
+                    bd = dist
+                    bk = c
             best[y, x] = bd
             if bd < threshold:
                 ids[y, x] = bk + 1
@@ -125,7 +112,6 @@ def _classify_near_kernel(  # pragma: no cover - compiled
     ids = np.zeros((h, w), np.uint8)
     owner = np.zeros((h, w), np.uint8)
     best = np.empty(k, np.float32)
-    pen = np.empty(k, np.float32)
     near = np.zeros(k, np.uint8)
     seen = np.zeros(k, np.bool_)
     for y in range(h):
@@ -140,9 +126,26 @@ def _classify_near_kernel(  # pragma: no cover - compiled
                     seen[c] = True
                     best[c] = d
                     near[c] = patch[j]
-            for c in range(k):
-                pen[c] = strength * best[c] if seen[c] else far
-            bd, bk = _nearest_color(image, y, x, W, means, linv, pen, True)
+            r = np.float32(image[y, x, 0])
+            g = np.float32(image[y, x, 1])
+            b = np.float32(image[y, x, 2])
+            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
+            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
+            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
+            bd = np.float32(np.inf)
+            bk = -1
+            for c in range(k):  # as in _classify_kernel, the penalty made here
+                d0 = p0 - means[c, 0]
+                d1 = p1 - means[c, 1]
+                d2 = p2 - means[c, 2]
+                z0 = linv[c, 0, 0] * d0
+                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
+                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
+                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+                dist += strength * best[c] if seen[c] else far
+                if dist < bd:
+                    bd = dist
+                    bk = c
             if bd < threshold:
                 ids[y, x] = bk + 1
                 owner[y, x] = near[bk] if seen[bk] else 0
