@@ -15,7 +15,7 @@ from bodyplay.capture.frames import Frame, FrameSet
 from bodyplay.errors import CaptureError, ConfigError, TimestampError
 from bodyplay.motion import sample_poses
 from bodyplay.render.idmap import render_idmaps
-from bodyplay.trackers.base import Tracker
+from bodyplay.trackers.base import Tracker, TrackResult
 from bodyplay.trackers.colorshirt import (
     ColorShirtOptions,
     DatabaseOptions,
@@ -418,11 +418,11 @@ def test_a_lone_cameras_start_is_not_reported_until_another_camera_agrees(db) ->
     assert errs[0][0] > 0.3 and errs[0][1] > 0.3, errs
 
 
-def test_a_lone_camera_start_that_no_camera_confirms_is_reported_after_the_agreement_frames(
-        db) -> None:  # type: ignore[no-untyped-def]
-    """A player the second camera never sees: the lone camera's track is reported
-    once ``start_agreement_frames`` frames passed without another camera, so a rig
-    with a camera that cannot see the player still tracks (one camera's way)."""
+def _second_camera_hidden(db, frames: int, hidden: range  # type: ignore[no-untyped-def]
+                          ) -> list[tuple[TrackResult, object]]:
+    """A still player in a cluttered room tracked by two cameras
+    (``start_agreement_frames=3``), the second seeing only the room on the frames in
+    ``hidden``: each frame's result and the tracker's ``rejected`` diagnostic."""
     cams = webcam_rig(2)
     q = _truth(11)
     rooms = [clutter(480, 640, np.random.default_rng(k)) for k in range(2)]
@@ -430,11 +430,21 @@ def test_a_lone_camera_start_that_no_camera_confirms_is_reported_after_the_agree
         ColorShirtOptions(background_subtraction=False, body="m", start_agreement_frames=3),
         cams, database=db)
     rng = np.random.default_rng(4)
-    found = []
-    for i in range(6):
+    out = []
+    for i in range(frames):
         images = _paint(q, cams, rng, rooms=rooms)
-        images[1] = rooms[1].copy()
-        found.append(tr.process(_frameset(images, i)).found)
+        if i in hidden:
+            images[1] = rooms[1].copy()
+        out.append((tr.process(_frameset(images, i)), tr.diagnostics.get("rejected")))
+    return out
+
+
+def test_a_lone_camera_start_that_no_camera_confirms_is_reported_after_the_agreement_frames(
+        db) -> None:  # type: ignore[no-untyped-def]
+    """A player the second camera never sees: the lone camera's track is reported
+    once ``start_agreement_frames`` frames passed without another camera, so a rig
+    with a camera that cannot see the player still tracks (one camera's way)."""
+    found = [r.found for r, _ in _second_camera_hidden(db, frames=6, hidden=range(6))]
     assert found == [False, False, False, True, True, True], found
 
 
@@ -446,21 +456,10 @@ def test_a_track_the_other_camera_loses_is_not_reported_until_a_camera_agrees_ag
     10 cm), so its fit is tracked but not reported, as a lone camera's start is,
     until the second camera sees the player again or ``start_agreement_frames``
     pass."""
-    cams = webcam_rig(2)
-    q = _truth(11)
-    rooms = [clutter(480, 640, np.random.default_rng(k)) for k in range(2)]
-    tr = create_colorshirt_tracker(
-        ColorShirtOptions(background_subtraction=False, body="m", start_agreement_frames=3),
-        cams, database=db)
-    rng = np.random.default_rng(4)
     found, rejected = [], []
-    for i in range(9):
-        images = _paint(q, cams, rng, rooms=rooms)
-        if 2 <= i < 8:
-            images[1] = rooms[1].copy()
-        r = tr.process(_frameset(images, i))
+    for i, (r, why) in enumerate(_second_camera_hidden(db, frames=9, hidden=range(2, 8))):
         found.append(r.found)
-        rejected.append(tr.diagnostics.get("rejected"))
+        rejected.append(why)
         if r.found:
             assert r.extras["cameras_used"] == ([0] if 2 <= i < 8 else [0, 1]), (i, r.extras)
     assert found[1] and found[8], found
