@@ -205,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             for i, clip in picked:
                 folder = cv.capture(work, clip, s.lighting, i, args.seconds)
-                r = run(folder, s, options, cv.database_for(clip, args.db_size, dbs), clock,
+                r = run(folder, s, options, cv.database_for(clip, options, dbs), clock,
                         args.steady_after)
                 cpu += r["cpu"]
                 steady += r["cpu"][args.steady_after:]

@@ -342,13 +342,16 @@ def _sampler_without(builtin: str) -> Callable[..., NDArray[np.float64]]:
     return poses
 
 
-def database_for(clip: Clip, size: int, cache: dict[str, PoseDatabase]) -> PoseDatabase:
+def database_for(clip: Clip, options: ColorShirtOptions, cache: dict[str, PoseDatabase]
+                 ) -> PoseDatabase:
     """The pose database a clip is scored with: without the clip's own poses."""
     key = clip.builtin or ""
     if key not in cache:
         sampler = _sampler_without(clip.builtin) if clip.builtin else sample_database_poses
-        cache[key] = load_or_build_database(Skeleton.from_shape("m"), DatabaseOptions(size=size),
-                                            pose_source=sampler)
+        cache[key] = load_or_build_database(
+            Skeleton.from_shape("m"),
+            DatabaseOptions(size=options.database_size, yaw_deg=options.database_yaw),
+            pose_source=sampler)
     return cache[key]
 
 
@@ -384,7 +387,7 @@ def half_captures(args: argparse.Namespace, setting: Setting
                 chosen is not None and clip.name not in chosen):
             continue
         folder = capture(Path(args.work), clip, setting.lighting, i, args.seconds)
-        yield clip, folder, database_for(clip, args.db_size, dbs)
+        yield clip, folder, database_for(clip, options_from(args), dbs)
 
 
 # ---- running ---------------------------------------------------------------------------
@@ -546,7 +549,7 @@ def main(argv: list[str] | None = None) -> int:
                 rows.append(done[key])
                 continue
             folder = capture(work, clip, s.lighting, i, args.seconds)
-            r = run_one(folder, s, options, database_for(clip, args.db_size, dbs))
+            r = run_one(folder, s, options, database_for(clip, options, dbs))
             r.update(tag=tag, clip=clip.name, setting=s.name, seconds=args.seconds,
                      half=half_of(clip, clips), capture=folder.name,
                      date=str(datetime.date.today()))

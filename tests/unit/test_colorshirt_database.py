@@ -74,6 +74,19 @@ def test_query_finds_an_entry_itself_and_agrees_with_exhaustive_search(small_db)
     assert np.allclose(d.distance, mismatch(small_db.ids[d.index], queries[0]) / 1600)
 
 
+def test_query_keeps_to_poses_facing_near_the_expected_way(small_db) -> None:  # type: ignore[no-untyped-def]
+    f = small_db.facings
+    assert np.allclose(np.linalg.norm(f, axis=1), 1.0)
+    q = small_db.ids[17]
+    same = small_db.query(q, facing=f[17], min_cos=0.0)
+    assert same.index[0] == 17 and np.all(f[same.index] @ f[17] >= 0.0)
+    away = small_db.query(q, facing=-f[17], min_cos=0.0)  # the other half of the turns
+    assert 17 not in away.index and np.all(f[away.index] @ -f[17] >= 0.0)
+    # too few poses that way round: the plain search
+    assert np.array_equal(small_db.query(q, facing=-f[17], min_cos=0.9999).index,
+                          small_db.query(q).index)
+
+
 def test_query_projection_matches_numpy_matrix_product(small_db) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(4)
     A = rng.normal(size=(300, 17)).astype(np.float32)

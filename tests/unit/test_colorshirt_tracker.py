@@ -211,6 +211,13 @@ def test_options_reject_a_non_positive_max_speed() -> None:
         ColorShirtOptions(max_speed=0.0)
 
 
+@pytest.mark.parametrize("option", [{"database_yaw": 0.0}, {"database_yaw": 181.0},
+                                    {"facing_turn": 0.0}, {"facing_turn": 200.0}])
+def test_options_reject_turn_angles_outside_zero_to_180_degrees(option: dict[str, float]) -> None:
+    with pytest.raises(ConfigError, match=next(iter(option))):
+        ColorShirtOptions(**option)
+
+
 def test_option_overrides_convert_strings_to_each_fields_type() -> None:
     base = ColorShirtOptions()
     opts = options_with_overrides(base, [

@@ -2,7 +2,8 @@
 
 ``--tracker colorshirt`` (default):
 Samples upper-body poses (the built-in CMU clips, random configurations and
-blends, facing the camera within +-80 degrees), renders each as a 40x40 color id
+blends, facing the camera within +-80 degrees, ``--yaw`` for another range: the
+tracker's ``database_yaw``), renders each as a 40x40 color id
 map of the generic body mesh and caches the result under ``--cache`` (default
 ``~/.cache/bodyplay``), keyed by a hash of everything that shapes it. The tracker
 builds it on first use anyway; this command does it ahead of time.
@@ -35,6 +36,9 @@ def register(subparsers: Any) -> None:
     p.add_argument("--cache", help="cache folder (default ~/.cache/bodyplay)")
     p.add_argument("--body", default="m", help="body preset of the generic skeleton")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--yaw", type=float, default=80.0,
+                   help="colorshirt: degrees the poses turn from facing the camera "
+                        "(the tracker's database_yaw; 180: every way round)")
     p.set_defaults(func=run)
 
 
@@ -47,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
 
     t0 = time.perf_counter()
     db = load_or_build_database(
-        Skeleton.from_shape(args.body), DatabaseOptions(size=args.size, seed=args.seed),
+        Skeleton.from_shape(args.body),
+        DatabaseOptions(size=args.size, seed=args.seed, yaw_deg=args.yaw),
         Path(args.cache) if args.cache else None, progress=True,
     )
     print(f"pose database: {len(db)} poses of {db.options.map_size}x{db.options.map_size} "

@@ -56,8 +56,8 @@ def create_colorshirt_tracker(
     if database is None:
         cache = Path(opts.database_cache) if opts.database_cache else None
         database = load_or_build_database(
-            skeleton, DatabaseOptions(size=opts.database_size), cache, progress=progress
-        )
+            skeleton, DatabaseOptions(size=opts.database_size, yaw_deg=opts.database_yaw),
+            cache, progress=progress)
     model = ColorModel.load(opts.color_model) if opts.color_model else default_color_model()
     if opts.prior_model:
         import json

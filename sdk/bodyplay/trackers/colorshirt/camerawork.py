@@ -65,6 +65,9 @@ shirt colours that never moves leaves the classification."""
 _TORSO_PATCHES = np.array([p.id for p in PATCHES if p.bone in ("thorax", "lumbar")])
 """The shirt's torso patches (front, back, flanks)."""
 
+_TOWARDS_CAMERA = np.array([0.0, 0.0, -1.0])
+"""A body's forward axis, in a camera's frame, when it faces that camera."""
+
 _SEARCH_REACH = 1.0
 """How far around the shirt's last box (in box sizes) the histogram search looks first."""
 
@@ -129,6 +132,9 @@ class CameraWork:
         """The room seen alike by two cameras (None with one camera)."""
         self._shirt_vertices: tuple[SkinnedMesh, NDArray[np.intp], NDArray[np.intp]] | None = None
         """The last mesh of :meth:`remember_shirt`, its shirt's and torso's vertex indices."""
+        self.facing: NDArray[np.float64] | None = None
+        """The tracked body's forward axis in the world: each camera's database query
+        keeps to poses facing within ``facing_turn`` of it (None: of the camera)."""
 
     def new_states(self) -> list[CameraState]:
         """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
@@ -340,7 +346,11 @@ class CameraWork:
         hi = np.array([xs.max(), ys.max()], float) + 1.0
         extent = float(np.max(hi - lo))
         view = CameraView(i, window, crop, cmask, W, ids, extent)
-        make_query(view, self.database, lo, hi)
+        facing = None
+        if self.options.facing_turn < 180:  # no track: a player who faces the camera
+            facing = _TOWARDS_CAMERA if self.facing is None else self.cameras[i].R @ self.facing
+        make_query(view, self.database, lo, hi, facing,
+                   float(np.cos(np.radians(self.options.facing_turn))))
         return view
 
     def _gate_box(self, st: CameraState, t: float) -> tuple[float, float, float, float] | None:

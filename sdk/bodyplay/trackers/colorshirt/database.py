@@ -5,7 +5,7 @@ upper-body poses (80,000 in the paper) as 40x40 color id maps, takes the ten
 nearest neighbours under the per-pixel mismatch distance and blends their poses.
 
 Poses come from :func:`bodyplay.motion.sample_poses` and get a random orientation
-broadly facing a *canonical camera* (yaw +-75 degrees, some lean and roll). Each
+facing a *canonical camera* (yaw within ``yaw_deg``, 80 degrees, some lean). Each
 is skinned with the generic body mesh and rasterized in the bounding box of its
 shirt vertices, normalized into a square 40x40 crop exactly as
 :func:`bodyplay.render.idmap.crop_transform` does; the crop scale and the root's
@@ -81,6 +81,8 @@ class DatabaseOptions:
             raise ConfigError("neighbours must be between 1 and candidates")
         if self.pca_dims < 4:
             raise ConfigError("pca_dims must be at least 4")
+        if not 0 < self.yaw_deg <= 180:
+            raise ConfigError(f"yaw_deg must be within (0, 180] degrees, got {self.yaw_deg}")
 
     def cache_key(self, skeleton: Skeleton, mesh: SkinnedMesh, sampler: str) -> str:
         """Hash of the options, skeleton, mesh and pose sampler: the cache file's name."""
@@ -327,6 +329,12 @@ class PoseDatabase:
     def _feature_norms(self) -> NDArray[np.float32]:
         return np.einsum("nd,nd->n", self.features, self.features)
 
+    @cached_property
+    def facings(self) -> NDArray[np.float64]:
+        """Each pose's forward axis (its root's z) in the canonical camera's frame."""
+        R = rotvec_to_matrix(self.poses[:, 3:6].astype(np.float64))
+        return np.asarray(np.einsum("ij,nj->ni", canonical_camera().R, R[:, :, 2]))
+
     def query_features(self, idmap: NDArray[np.uint8]) -> NDArray[np.float32]:
         """Project one id map onto the principal components."""
         f = _pooled_onehot_one(np.ascontiguousarray(idmap, np.uint8), _POOL,
@@ -334,10 +342,14 @@ class PoseDatabase:
         return _matvec(self._basis, np.asarray(f, np.float32))
 
     def query(self, idmap: NDArray[np.uint8], k: int | None = None,
-              exact: bool = False) -> Neighbours:
+              exact: bool = False, facing: NDArray[np.float64] | None = None,
+              min_cos: float = 0.0) -> Neighbours:
         """The ``k`` nearest maps (default ``options.neighbours``) by pixel mismatch.
 
         ``exact`` scans every map (slow; for measuring the coarse search's recall).
+        ``facing``: the forward axis expected (camera frame, as :attr:`facings`);
+        only poses whose own is within ``arccos(min_cos)`` of it are searched, when
+        there are enough (front and back of the shirt can look alike in 40x40).
         """
         o = self.options
         k = o.neighbours if k is None else k
@@ -349,6 +361,10 @@ class PoseDatabase:
             f = self.query_features(idmap)
             d = self._feature_norms - 2.0 * _matvec(self._features, f)
             m = min(o.candidates, len(self) - 1)
+            if facing is not None:
+                ok = self.facings @ np.asarray(facing, np.float64) >= min_cos
+                if int(ok.sum()) > m:
+                    d = np.where(ok, d, np.inf).astype(np.float32)
             cand = np.argpartition(d, m)[:m]
         mis = mismatch(self.ids[cand], idmap[None])
         order = np.argsort(mis, kind="stable")[:k]

@@ -26,7 +26,10 @@ class ColorShirtOptions:
     * ``adaptive_white_balance``: refit ``W`` every frame, keep reference
       illuminations (paper steps 1 and 5); ``pose_prior``: pose-assisted
       reclassification and IK priors (steps 3 and 4). Both off: the paper's baseline.
-    * ``database_size`` poses (paper: 80,000), cached in ``database_cache``.
+    * ``database_size`` poses (paper: 80,000), cached in ``database_cache``;
+      ``database_yaw`` (degrees): how far from facing the camera they turn;
+      ``facing_turn`` (degrees): while tracking, only poses facing within this of
+      the last pose are searched (180: all).
     * ``threshold``/``prior_threshold``: the classifier's ``T`` (3 and 5);
       ``prior_strength``: the 6 of ``C = 6 / s``; ``prior_gain_power``: ``C`` grows
       with the white balance's gain to this power (a noisier image); ``retry_fraction``:
@@ -84,6 +87,8 @@ class ColorShirtOptions:
     pose_prior: bool = True
     database_size: int = 20_000
     database_cache: str | None = None
+    database_yaw: float = 80.0
+    facing_turn: float = 180.0
     threshold: float = 3.0
     prior_threshold: float = 5.0
     prior_strength: float = 12.0
@@ -200,6 +205,8 @@ _RANGES: tuple[tuple[str, float, float, bool, str], ...] = (
     ("start_agreement_frames", 0, 10_000, False,
      " frames (0: a lone camera's start gates the others at once)"),
     ("max_mismatch", 0, 1, True, ""),
+    ("database_yaw", 0, 180, True, " degrees (180: every way round)"),
+    ("facing_turn", 0, 180, True, " degrees (180: every pose)"),
     ("measurement_noise", 0, 9, False,
      " RGB units (larger values let background into the dark shirt colors)"),
     ("gate_time", 0, _INF, True, " (seconds)"),

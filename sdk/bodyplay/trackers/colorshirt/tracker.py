@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.joints import UPPER_BODY
+from bodyplay.body.rotations import rotvec_to_matrix
 from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -182,6 +183,10 @@ class ColorShirtTracker:
         confirmed = self._gate.reported is not None
         self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
+        if self.options.facing_turn < 180 and self._prev is not None:
+            self._work.facing = rotvec_to_matrix(self._prev[3:6])[:, 2]  # the body's forward
+        else:
+            self._work.facing = None
         if starting:
             views, fresh = self._start_views(frames, confirmed)
             if fresh and self._alone is not None:  # a new hypothesis replaces a lone

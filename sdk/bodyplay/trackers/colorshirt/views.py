@@ -227,8 +227,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
 
 
 def make_query(view: CameraView, database: PoseDatabase, lo: NDArray[np.float64],
-               hi: NDArray[np.float64]) -> None:
-    """Normalize the classified crop like the database (bounding box, margin, 40x40)."""
+               hi: NDArray[np.float64], facing: NDArray[np.float64] | None = None,
+               min_cos: float = 0.0) -> None:
+    """Normalize the classified crop like the database (bounding box, margin, 40x40) and
+    find its neighbours (facing as :meth:`PoseDatabase.query`)."""
     db = database
     n = db.options.map_size
     extent = max(float(np.max(hi - lo)), 4.0)
@@ -241,7 +243,7 @@ def make_query(view: CameraView, database: PoseDatabase, lo: NDArray[np.float64]
                                       borderValue=0), np.uint8)
     view.query = query
     view.query_scale, view.query_offset = s, off
-    nb = db.query(query)
+    nb = db.query(query, facing=facing, min_cos=min_cos)
     view.neighbours = nb
     view.distance = float(nb.distance[0])
 
