@@ -282,6 +282,13 @@ class BackgroundModel:
         self._learned_at: NDArray[np.int32] = np.zeros((0, 0), np.int32)
         self._small: NDArray[np.uint8] | None = None
         self.reguessed = False
+        self._dropped = False
+
+    @property
+    def dropped(self) -> bool:
+        """Whether the first frame's guess was dropped (:meth:`drop_guess`) since the
+        start."""
+        return self._dropped
 
     @property
     def frames(self) -> int:
@@ -301,6 +308,7 @@ class BackgroundModel:
         self._resolving = False
         self.player = None
         self._ghost = np.zeros((0, 0), bool)
+        self._dropped = True
 
     def release(self, mask: NDArray[np.bool_], since: int | None = None) -> None:
         """The tracker found that what it followed there is not the player (it stood
@@ -336,13 +344,16 @@ class BackgroundModel:
         if self.player is not None:
             self.player |= back  # probably the player, as in the first guess
 
-    def guess_in(self, box: NDArray[np.bool_]) -> bool:
+    def guess_in(self, box: NDArray[np.bool_], grabcut: bool = True) -> bool:
         """The first frame's guess of the player made again, inside ``box`` (working
         resolution: where a person standing at the tracker's floor point can be),
-        when the first one gave nothing or was dropped (:func:`box_guess`). Pixels
-        learned since the start inside the new guess are unknown again (their first
-        values back), those outside it known; the guess is then resolved like a
-        first guess. Once per start; returns whether there is a new guess."""
+        when the first one gave nothing or was dropped (:func:`box_guess`; with
+        ``grabcut`` False, the box itself: a guess that was dropped had taken the
+        room for the figure, and GrabCut on the same first frame would take it
+        again). Pixels learned since the start inside the new guess are unknown
+        again (their first values back), those outside it known; the guess is then
+        resolved like a first guess, by what has moved since. Once per start;
+        returns whether there is a new guess."""
         if (self.reguessed or self._resolving or self._small is None or self._first is None
                 or self.known is None or self._mean is None or self._var is None
                 or not self.options.resolve_every):
@@ -351,7 +362,7 @@ class BackgroundModel:
             raise CaptureError(f"guess box is {box.shape[::-1]}, the model works at "
                                f"{self.known.shape[::-1]}")
         self.reguessed = True
-        guess = box_guess(self._small, box, self.known)
+        guess = box_guess(self._small, box, self.known) if grabcut else box.copy()
         if not guess.any():  # no figure in the box either: the box itself, resolved later
             guess = box.copy()
         if not guess.any():

@@ -288,6 +288,12 @@ class SilhouetteOptions:
     fill (``box_guess`` m either side of the line of sight, from under the floor to
     ``box_top`` m; :meth:`.background.BackgroundModel.guess_in`), and resolved like a
     first guess (0: off);
+    ``box_redo``: when the first guess was dropped (it took a treadmill or a sofa
+    under the player for the figure), the box a person standing at the first floor
+    point can fill is the guess (the same box, ``box_guess`` > 0), resolved like a
+    first guess: the first frame's copy of the player left in the room (the ghost)
+    and the still body are resolved again instead of staying foreground and
+    background (False: the dropped guess's pixels stay "don't care" and are learned);
     ``facing``: "front" (the tree's poses, facing the camera) or "away": the camera
     films the player from behind, and every reported pose is the front pose with
     its depth reflected about the root and left and right swapped (:mod:`.facing`;
@@ -347,6 +353,7 @@ class SilhouetteOptions:
     box_guess: float = 0.9
     box_top: float = 2.3
     box_below: float = 0.0
+    box_redo: bool = True
     facing: str = "front"
     cache: str | None = None
 

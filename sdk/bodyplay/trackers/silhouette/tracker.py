@@ -244,6 +244,13 @@ class SilhouetteTracker:
         if win is None or not ok or not floor_ok:
             stages["window"] = time.perf_counter() - tic
             return self._absent(frames, sil, t0, stages)
+        o = self.options
+        bg = self.background
+        if o.box_redo and o.box_guess and bg.dropped and not bg.reguessed:
+            # the first guess was dropped (it took a treadmill for the figure): the box a
+            # person standing here can fill is the guess now, resolved (once per start)
+            bg.guess_in(person_box(self._cam, win.ground, sil.foreground.shape, sil.scale,
+                                   o.box_guess, o.box_below, o.box_top), grabcut=False)
         if self._started is None:
             self._started = frames.t
             self._start_frame = self.background.frames
