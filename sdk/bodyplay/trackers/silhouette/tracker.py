@@ -18,7 +18,9 @@ the ray through an elbow meets the floor metres away, or never), the floor
 distance is the one at which the templates fit what moves best (:mod:`.shapestart`,
 median over ``shape_frames`` frames), until a floor point is seen; at that
 moment the first frame's guess is made again in the box a person standing there
-can fill (``box_guess``, :meth:`.background.BackgroundModel.guess_in`). A start whose
+can fill (``box_guess``, :meth:`.background.BackgroundModel.guess_in`); a first
+guess dropped as not the player's (a treadmill under him) is that box at the first
+pose after it (``box_redo``). A start whose
 track is lost before it has lasted ``restart_within`` s is undone (nothing is
 protected any more, the still body is held again), and the next floor point must
 agree with the templates' distance (``restart_agree``) for ``restart_doubt`` s.
