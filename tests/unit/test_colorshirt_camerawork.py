@@ -77,7 +77,7 @@ def test_the_floor_plate_learns_every_frame_before_the_first_pose_even_where_clu
     located = 0
     for k in range(10):
         work.prepare([st], [room])
-        assert work.view(0, st, k / 30.0, confirmed=False) is None
+        assert work.views(0, st, k / 30.0, False, 1) == []
         located += st.located
     assert located > 0  # the search did take clutter for a shirt
     assert st.floor.plate.ready

@@ -1,12 +1,7 @@
 """The color-shirt tracker (papers/color-shirt-mocap.txt): upper body from a colored shirt.
 
-Build one with :func:`create_colorshirt_tracker`; it implements
-:class:`bodyplay.trackers.base.Tracker`. Modules: :mod:`.colors` (color model and
-classifier), :mod:`.whitebalance`, :mod:`.locate` (histogram search),
-:mod:`.database` (rendered pose database), :mod:`.prediction` (rendering the
-estimate in crops), :mod:`.ik` (6-DOF and IK fits), :mod:`.views` (per-camera
-state, crop classification clean-up and query), :mod:`.camerawork` (the steps in
-each camera's image), :mod:`.tracker` (the pipeline).
+Build one with :func:`create_colorshirt_tracker` (a :class:`bodyplay.trackers.base.Tracker`);
+docs/colorshirt.md says what each module does.
 """
 
 from __future__ import annotations
@@ -38,20 +33,14 @@ def create_colorshirt_tracker(
     database: PoseDatabase | None = None,
     progress: bool = False,
 ) -> ColorShirtTracker:
-    """Validate the options and cameras and build a ready tracker.
-
-    The pose database is loaded from the cache (built on first use, which takes
-    about a minute per 20,000 poses) unless ``database`` is given. With
-    ``body="auto"`` the database is the reference body's (``m``) and every preset
-    is built as a candidate.
-    """
+    """Validate the options and cameras and build a ready tracker; the pose database
+    is loaded from the cache (built on first use) unless ``database`` is given."""
     opts = options or ColorShirtOptions()
     cams = tuple(cameras)
     if not 1 <= len(cams) <= 4:
         raise ConfigError(
             f"the color-shirt tracker needs 1 to 4 calibrated cameras, got {len(cams)}"
         )
-    # "auto": the database and the first frames use the reference body ``m``
     skeleton = Skeleton.from_shape("m" if opts.body == "auto" else opts.body)
     if database is None:
         cache = Path(opts.database_cache) if opts.database_cache else None

@@ -1,9 +1,5 @@
-"""Patch anchors: the correspondences the 6-DOF fit and the IK pull on.
-
-A patch seen both in the rendered pose and in a camera's classified crop becomes
-an anchor: the render's visible-part centroid, attached to the patch's bone, is
-pulled towards the observed centroid of the pixels assigned to that patch.
-"""
+"""Patch anchors: a patch seen both in the render and in a camera's classified crop;
+its rendered centroid, attached to its bone, is pulled to the observed centroid."""
 
 from __future__ import annotations
 
@@ -28,12 +24,9 @@ def patch_anchors(renderer: PoseRenderer, solver: KinematicSolver, cameras: Sequ
                   q: NDArray[np.float64], views: Sequence[CameraView],
                   rendered: Sequence[RenderedPose], observed: Sequence[Observed],
                   centroid_std: float, options: ColorShirtOptions) -> PatchAnchors:
-    """Anchors for the patches seen both in the render and in the image, all cameras.
-
-    ``centroid_std`` is the trained constraint std relative to the shirt's size in
-    the image; it is inflated for small (partly hidden) patches and multiplied by
-    ``options.white_std_scale`` for the white ones.
-    """
+    """Anchors for the patches seen both in the render and in the image, all cameras;
+    ``centroid_std`` (relative to the shirt's size) grows for partly hidden patches
+    and by ``white_std_scale`` for the white ones."""
     o = options
     nodes, locals_, cams, targets, sigmas, pids = [], [], [], [], [], []
     for view, rend, (counts, cents) in zip(views, rendered, observed, strict=True):

@@ -1,35 +1,13 @@
 """Arm search: each arm chosen on its own from a library of arm configurations.
 
-The database is looked up with the whole shirt, so a pose is only found when the
-torso *and both arms* resemble one stored pose: the coverage of two arms together
-is the product of each arm's: the nearest stored *arm* (relative to the shoulder,
-in the neck's frame) lies much nearer than the nearest whole pose, and the IK,
-started from the blend, inherits the blend's wrong arms.
-
-So, after the 6-DOF fit of the blend, each arm is replaced by the library's arm that
-best explains the classified pixels in every camera, the torso staying where the
-fit put it. The library is the database's own arm configurations (clavicle,
-shoulder, elbow, wrist rotations, relative to the neck), thinned by farthest-point
-sampling of the shoulder, elbow and wrist positions. A candidate's score is a
-truncated chamfer distance in both directions: the arm's shirt surface is
-represented by sample points (face centres of its five patches, 30 per patch) with
-the patch's color; every point facing a camera is projected into that camera's
-crop and costs its distance to the nearest pixel classified as its color
-(:func:`cv2.distanceTransform`), at most ``tau``; and every pixel of the four
-colors only the arms wear costs its distance to the nearest visible point of its
-color on either arm. The blend's own arm and the previous frame's arm are
-candidates too. The best few of each arm are blended (weights falling off
-exponentially with the score), as the database blends its neighbours.
-
-With one camera the chamfer cannot tell an arm's depth: among arms with the same
-outline it picks one leaning in depth at random. There each candidate also pays
-``pull`` per (10 cm)² of mean squared distance of its elbow and wrist from the
-blend's, relative to the neck, so the outline comes from the image and the lean from
-the database (run once the body is chosen). Two cameras see depth: no pull.
-The figures are in docs/colorshirt-history.md, section 13.
-
-This is beyond the paper (which blends whole database poses); it changes only the
-starting point and the blend prior of the IK that follows, not the IK itself.
+The database matches the torso *and both arms* with one stored pose; a stored *arm*
+alone lies much nearer. So after the 6-DOF fit each arm is replaced by the
+library's arm (the database's arm rotations, thinned by farthest-point sampling)
+that best explains the classified pixels: a truncated chamfer between the arm's
+surface points (facing a camera, with their patch colour) and the pixels of their
+colour, both ways; the best few are blended. With one camera a candidate also pays
+``pull`` for leaving the blend's elbow and wrist (the lean comes from the
+database). Beyond the paper; it changes the IK's start and blend prior only.
 """
 
 from __future__ import annotations
@@ -253,20 +231,11 @@ class ArmSearch:
                pull: float = 0.0) -> tuple[NDArray[np.float64], list[ArmChoice]]:
         """``q`` with its arms replaced by the candidates that best explain the pixels.
 
-        Stage 1 scores every candidate of each arm by the model-to-image chamfer cost.
-        Stage 2 takes each arm's ``top`` candidates (and always the blend's arm) and
-        scores every left-right pair by that cost plus the image-to-model one: how far
-        each pixel of the four arm-only colors lies from the nearest visible point of
-        its color on either arm. Stage 2 catches an arm that fits inside the observed
-        arm but leaves part of it unexplained (too short, bent, pointing away).
-        Stage 1 alone favours such arms (a forearm folded across the upper arm's
-        pixels costs little), so the shortlist must be long enough to hold the arm
-        that also explains the rest (with 8 per arm a raised forearm was held
-        folded).
-
-        ``pull`` (for one camera, which cannot see an arm's lean in depth) adds, per
-        (10 cm)² of mean squared distance of a candidate's elbow and wrist from the
-        blend's arm (in the neck's frame), that much to its cost.
+        Stage 1 scores every candidate by the model-to-image chamfer; stage 2 pairs
+        each arm's ``top`` (and the blend's arm) and adds the image-to-model cost of
+        the arm-only colours' pixels, which an arm too short or folded leaves
+        unexplained. ``pull``: cost per (10 cm)² of a candidate's elbow and wrist
+        distance from the blend's arm.
         """
         if not views:
             return q.copy(), []
@@ -360,12 +329,8 @@ class ArmSearch:
 
 
 class ArmSearches:
-    """One tracker's arm searches: the library, chosen once, and a search per body.
-
-    The library is thinned from ``poses`` (the database's) on first use, with the
-    first body's skeleton; each body preset (its bone lengths and mesh) gets its own
-    :class:`ArmSearch` over the same library, built when the tracker first fits it.
-    """
+    """One tracker's arm searches: the library, thinned from ``poses`` on first use,
+    and an :class:`ArmSearch` per body, built when the tracker first fits it."""
 
     def __init__(self, poses: NDArray[np.floating], size: int) -> None:
         self._poses = poses
@@ -373,9 +338,7 @@ class ArmSearches:
         self._library: dict[str, NDArray[np.float64]] | None = None
         self._searches: dict[str, ArmSearch] = {}
         self._inputs: list[tuple[NDArray[np.uint8], ArmView]] = []
-        """The last frame's :class:`ArmView` of each classification: the start-up's
-        candidate bodies search the same classified crops (their distance maps are
-        computed once)."""
+        """Recent :class:`ArmView`-s, reused by the start-up's candidate bodies."""
 
     def _input(self, view: CameraView, tau: float) -> ArmView:
         """:meth:`ArmView.from_ids` of ``view``, reused when the same classification
@@ -392,12 +355,9 @@ class ArmSearches:
                cameras: tuple[Camera, ...], views: list[CameraView],
                previous: NDArray[np.float64] | None, tau: float, temperature: float,
                top: int, pull: float = 0.0) -> tuple[NDArray[np.float64], list[ArmChoice]]:
-        """:meth:`ArmSearch.search` of ``body`` on the tracker's camera views.
-
-        ``tau`` is the truncation in shirt sizes (each view's classified extent),
-        ``top`` the shortlist per arm that stage 2 pairs, ``pull`` the cost per
-        (10 cm)² of an arm's distance from the blend's.
-        """
+        """:meth:`ArmSearch.search` of ``body`` on the tracker's camera views: ``tau`` the
+        truncation in shirt sizes, ``top`` the shortlist per arm that stage 2 pairs,
+        ``pull`` the cost per (10 cm)² of an arm's distance from the blend's."""
         search = self._searches.get(body)
         if search is None:
             if self._library is None:
@@ -475,9 +435,8 @@ def _nearest_same_color(uv: NDArray[np.float64], vis: NDArray[np.bool_],
                         obs: NDArray[np.float64], tau: float
                         ) -> NDArray[np.float64]:  # pragma: no cover - compiled
     """(C, N) distance of each observed pixel to the candidate's nearest visible point
-    of its color, at most ``tau``. ``by_color`` lists the points grouped by color,
-    color ``k``'s from ``starts[k]`` to ``starts[k + 1]``: a pixel looks only at its
-    own color's points (the same minimum as over all points, a fifth of the work)."""
+    of its color, at most ``tau``; ``by_color`` lists the points grouped by color,
+    color ``k``'s from ``starts[k]`` to ``starts[k + 1]``."""
     n_cand = vis.shape[0]
     n_colors = starts.shape[0] - 1
     out = np.full((n_cand, obs.shape[0]), tau)

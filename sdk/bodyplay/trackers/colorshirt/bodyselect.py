@@ -1,12 +1,6 @@
-"""Choosing the body-size preset at start-up (``ColorShirtOptions(body="auto")``).
-
-The silhouette paper picks its body model among several sizes; here every preset of
-:data:`bodyplay.body.shapes.BODY_SHAPES` is fitted (6-DOF + IK with its own skeleton
-and generic mesh) on the first frames where the shirt is found, and the preset whose
-patch anchors reproject closest to the observed patch centroids (the IK data term,
-in units of the shirt's size in the image so every preset is judged on the same
-scale) wins. The pose database stays the reference body's: it only supplies joint
-angles, retrieved from normalized crops.
+"""Choosing the body-size preset at start-up (``ColorShirtOptions(body="auto")``): every
+preset is fitted on the first frames with the shirt, and the one whose patch anchors
+reproject closest (in shirt sizes) wins. The database stays the reference body's.
 """
 
 from __future__ import annotations
@@ -27,18 +21,15 @@ __all__ = ["ARM_SCALES", "BodyFit", "BodyModel", "BodySelection", "arm_variants"
            "build_body_models", "reprojection_residual", "with_arm_scale"]
 
 ARM_SCALES: tuple[float, ...] = (0.84, 0.88, 0.92, 0.96, 1.0)
-"""Arm lengths (upper arm, forearm and hand together) tried after the preset is
-chosen, relative to the preset's. People's arms vary by more than their height
-says; the synthetic actor's are 12-16% shorter than the ``m`` preset's."""
+"""Arm lengths tried after the preset is chosen, relative to the preset's."""
 
 _ARM_NODES = ("l_elbow", "r_elbow", "l_wrist", "r_wrist", "l_hand", "r_hand")
 
 
 @dataclass(eq=False)
 class BodyFit:
-    """One body's fit of a frame: pose, anchored patches, mean relative residual (what
-    the start-up's race compares), and the renderer and cameras of its body, to
-    render the final pose where needed."""
+    """One body's fit of a frame: pose, anchored patches, mean relative residual, and
+    its body's renderer and cameras."""
 
     q: NDArray[np.float64]
     seen: set[int]
@@ -50,8 +41,7 @@ class BodyFit:
 
     @property
     def rendered(self) -> list[RenderedPose]:
-        """The final pose rendered into each view's crop (rendered on first use: of the
-        start-up's candidates only the one reported refits the white balance)."""
+        """The final pose rendered into each view's crop (on first use)."""
         if self._rendered is None:
             verts = self.renderer.vertices(self.q)
             self._rendered = [self.renderer.render(verts, self.cameras[v.index], v.window)
@@ -107,11 +97,8 @@ def arm_variants(body: BodyModel, cameras: tuple[Camera, ...],
 
 def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
                           anchors: PatchAnchors, size_px: NDArray[np.float64]) -> float:
-    """Mean distance between projected anchors and observed centroids at pose ``q``.
-
-    ``size_px`` (A,) is the shirt's size in the image of each anchor's camera: the
-    distances are relative to it, independent of the candidate body's own size.
-    """
+    """Mean distance between projected anchors and observed centroids at pose ``q``,
+    relative to ``size_px`` (A,), the shirt's size in each anchor's camera."""
     if len(anchors) == 0:
         return float("nan")
     proj = solver.project(q, anchors)[0]
@@ -122,20 +109,11 @@ def reprojection_residual(solver: KinematicSolver, q: NDArray[np.float64],
 class BodySelection:
     """Running mean residual of each candidate preset over the start-up frames.
 
-    ``frames`` is how many frames with a fit decide; ``previous`` holds each
-    candidate's last pose (its own temporal prior while the candidates run side by
-    side); ``chosen`` is set once the frames are in. ``halvings`` are the fractions
-    of ``frames`` after which the worse half of the candidates still in the race
-    (``active``) drops out (successive halving, down to two), except candidates
-    within ``tolerance`` of the lowest mean, which the rule below could still
-    choose: the clear losers stop costing a fit per frame early, the close ones
-    are decided on every frame.
-    ``tolerance``: the first candidate in ``names`` order whose mean residual is
-    within this fraction of the lowest wins (0: the lowest wins); the arm-length
-    stage lists its candidates shortest first, so that it prefers the shortest arm
-    that fits (a longer one fits as well by leaning in depth). Frames that cannot
-    judge are :meth:`skip`-ped; after ``patience`` times ``frames`` of them, a
-    fallback is chosen.
+    ``frames`` frames with a fit decide; ``previous`` holds each candidate's last
+    pose. After each fraction ``halvings`` of them the worse half of the ``active``
+    candidates drops out (down to two; not those within ``tolerance``). The first
+    candidate in ``names`` order within ``tolerance`` of the lowest mean wins. After
+    ``patience`` times ``frames`` :meth:`skip`-ped frames, a fallback is chosen.
     """
 
     names: tuple[str, ...]

@@ -1,12 +1,9 @@
 """The color-shirt tracker's work in each camera's image (:class:`CameraWork`).
 
-Everything the tracker does with one camera's pixels: undistort, background
-mask (MOG2) and plates, histogram search near the shirt's last box, crop, white
-balance and classification inside the gate, database query (:meth:`CameraWork.view`);
-with the pose's render, the step-2 correspondences and the step-3 pose-assisted
-reclassification, and the step-5 refit of ``W``; after a pose is reported, each
-camera's gate and search box and its room plate. The 3-D side (blend, fits, body
-choice) is :mod:`.tracker`'s.
+Undistortion, masks and plates, the histogram search, crop, white balance,
+classification and database query; with a pose's render, the correspondences,
+the pose-assisted reclassification and the refit of ``W``; after a pose, each
+camera's gate, search box and room plate. The 3-D side is :mod:`.tracker`'s.
 """
 
 from __future__ import annotations
@@ -43,10 +40,7 @@ from bodyplay.trackers.colorshirt.views import (
     make_query,
     prior_penalty_slope,
 )
-from bodyplay.trackers.colorshirt.whitebalance import (
-    ReferenceIlluminations,
-    white_balance_from_ids,
-)
+from bodyplay.trackers.colorshirt.whitebalance import ReferenceIlluminations, white_balance_from_ids
 
 __all__ = ["CameraWork"]
 
@@ -55,12 +49,10 @@ _REDUCE = 2
 
 _MOVED = 0.01
 """Share of a start candidate's shirt box that MOG2 must see change for it to have
-moved (a player sways; a poster in shirt colours does not: 0-0.4%)."""
+moved (a player sways; a poster does not)."""
 
 _WARMUP = 1
-"""Frames MOG2 learns before its mask is used: from the second frame on, what moved
-is foreground (with the torso's box, see :meth:`CameraWork.view`), so room clutter in
-shirt colours that never moves leaves the classification."""
+"""Frames MOG2 learns before its mask is used."""
 
 _TORSO_PATCHES = np.array([p.id for p in PATCHES if p.bone in ("thorax", "lumbar")])
 """The shirt's torso patches (front, back, flanks)."""
@@ -104,14 +96,9 @@ def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
 
 
 class CameraWork:
-    """The per-camera image steps of the color-shirt tracker (see the module docstring).
-
-    Holds what they need that never changes while tracking (options, cameras and
-    their undistortion maps, the shirt locator, the color models, the pose
-    database); what each camera remembers between frames is its
-    :class:`CameraState`, passed in, and the body's renderer is passed in too (the
-    start-up's body choice changes it).
-    """
+    """The per-camera image steps (see the module docstring): what never changes
+    while tracking; each camera's :class:`CameraState` and the body's renderer are
+    passed in."""
 
     def __init__(self, options: ColorShirtOptions, cameras: tuple[Camera, ...],
                  database: PoseDatabase, color_model: ColorModel) -> None:
@@ -119,17 +106,15 @@ class CameraWork:
         self.cameras = cameras
         self.database = database
         self.color_model = color_model
-        """Chooses ``W`` (:func:`white_balance_from_ids`)."""
+        """Chooses ``W``."""
         self.noise_model = (
             dataclasses.replace(color_model, measurement_noise=options.measurement_noise)
             if options.measurement_noise > 0 else color_model)
-        """The classifier: ``color_model`` with the W-amplified measurement noise
-        (:meth:`ColorModel.effective_inverse`); ``color_model`` itself chooses ``W``."""
+        """The classifier: ``color_model`` with the W-amplified measurement noise."""
         self.locator = ShirtLocator(options.locate)
         self._undistort = [c.undistort_maps() for c in cameras]
         self.crossview = (CrossView(len(cameras)) if options.cross_view and len(cameras) > 1
                           else None)
-        """The room seen alike by two cameras (None with one camera)."""
         self._shirt_vertices: tuple[SkinnedMesh, NDArray[np.intp], NDArray[np.intp]] | None = None
         """The last mesh of :meth:`remember_shirt`, its shirt's and torso's vertex indices."""
         self.facing: NDArray[np.float64] | None = None
@@ -153,9 +138,8 @@ class CameraWork:
 
     # ---- one camera's share of a frame: locate, classify, query ----------------------
     def prepare(self, states: list[CameraState], images: list[NDArray[np.uint8]]) -> None:
-        """A new frame set: each camera's image undistorted and reduced (MOG2 and the
-        plates share it), and its room plate started with the pixels another camera
-        shows as the same room (:class:`.crossview.CrossView`, two cameras or more)."""
+        """A new frame set: each camera's image undistorted and reduced, and its room
+        plate started (with another camera's view of the room where it has one)."""
         o = self.options
         plate = o.floor_cue or o.head_cue
         for i, (st, image) in enumerate(zip(states, images, strict=True)):
@@ -175,33 +159,18 @@ class CameraWork:
                                          for st in states], _REDUCE,
                                         [not st.floor.plate.ready for st in states])
         for st, same in zip(states, alike, strict=True):
-            if st.reduced is not None:  # the other cameras' word stands in for an empty
-                # room never seen: once the floor cue's plate learned one, its mask
-                # tells the room without the cross view's mistakes (a still player's
-                # uniform patches, where the shift between the views is small)
+            if st.reduced is not None:  # the cross view stands in for an empty room
                 st.room.start(st.reduced, None if st.floor.plate.ready else same)
-
-    def view(self, i: int, st: CameraState, t: float, confirmed: bool) -> CameraView | None:
-        """Camera ``i``'s view of the frame at ``t`` (None: no shirt there).
-
-        ``confirmed``: whether the tracker holds a pose reported (until one is,
-        the floor cue's plate takes the shirt-like region for possible clutter).
-        """
-        found = self.views(i, st, t, confirmed, 1)
-        return found[0] if found else None
 
     def views(self, i: int, st: CameraState, t: float, confirmed: bool, count: int,
               tracked: bool = False) -> list[CameraView]:
-        """Camera ``i``'s candidate views of the frame at ``t`` (:meth:`prepare`), best
-        located first.
+        """Camera ``i``'s candidate views of the frame at ``t``, best located first
+        (``confirmed``: whether the tracker holds a pose reported).
 
-        With ``count`` 1 the one region the histogram search finds (near the
-        shirt's last box first, within the gate; else in the whole frame, with
-        the motion mask), committed; else up to ``count`` shirt-like regions of
-        the whole frame (:meth:`ShirtLocator.candidates`, without the gate or
-        the motion mask), after that region if ``tracked``, each classified
-        with its own white balance and matched to the database: the tracker
-        chooses (:meth:`commit` the chosen one). ``confirmed`` as in :meth:`view`.
+        With ``count`` 1 the region the search finds (near the shirt's last box
+        first, with the gate and the motion mask), committed; else up to ``count``
+        regions of the whole frame without them (after that region if ``tracked``),
+        each with its own white balance: the tracker :meth:`commit`-s the chosen one.
         """
         o = self.options
         image, reduced = st.image, st.reduced
@@ -212,21 +181,12 @@ class CameraWork:
             st.floor.start(reduced, reduced=True)
         if reduced is not None and plate and not confirmed and (count <= 1 or
                                                                   st.last_box is not None):
-            # until the first pose is reported the plate learns every frame: a
-            # colourful empty room has shirt-like regions that the search finds
-            # and the colour test then rejects, and learning only where nothing
-            # was found left the plate unready (no floor or head cue after the
-            # empty room); a start frame learns it
-            # once the tracker has judged its regions (:meth:`learn_room`)
+            # until the first pose the plate learns every frame (a start frame once
+            # the tracker has judged its regions: :meth:`learn_room`)
             st.floor.no_shirt()
         if mask is not None and st.last_box is not None and st.torso_box is not None:
-            # a person standing still fades into the background model: where the
-            # torso was a frame ago always counts as foreground, and the rest of the
-            # shirt's box only where the room was seen empty (there the room plate
-            # tells the room from a still arm). A player in view from the first
-            # frame: a first fit that put an arm into a poster in shirt colours
-            # kept the poster as foreground in the shirt's box frame after frame,
-            # and the arm stayed in it
+            # a still player fades into MOG2: the last torso box stays foreground, the
+            # rest of the shirt's box only where the room was seen empty
             bx0, by0, bx1, by1 = st.torso_box
             mask[max(by0, 0) : max(by1, 0), max(bx0, 0) : max(bx1, 0)] = True
             empty = st.room.empty_room
@@ -261,8 +221,7 @@ class CameraWork:
             if view is not None:
                 view.state = trial
                 out.append(view)
-        # MOG2's mask holds only what moved since the last frame, a player's moving
-        # parts: the candidates see every pixel but those the room plate knows
+        # MOG2 holds only what moved: the candidates see all but the known room
         # (the tracker asks MOG2 whether each moved, :meth:`moved`), anywhere in
         # the frame (no gate)
         locs = self.locator.candidates(image, full, count)
@@ -277,9 +236,8 @@ class CameraWork:
         return out
 
     def moved(self, st: CameraState, view: CameraView) -> bool | None:
-        """Whether MOG2 saw this frame change within ``view``'s shirt (its classified
-        pixels' box): a player moves, a poster does not (None: no background model,
-        or still learning its first frame)."""
+        """Whether MOG2 saw this frame change within ``view``'s classified box (None:
+        no background model yet)."""
         if not self.options.background_subtraction:
             return None
         share = st.background.moving(_ids_box(view))
@@ -363,14 +321,9 @@ class CameraWork:
 
     def _gate_mask(self, st: CameraState, window: CropWindow,
                    t: float) -> NDArray[np.bool_] | None:
-        """Crop mask of where the shirt can be at ``t``: the shirt's box in the last
-        pose reported, grown by ``gate_speed`` times its size per second since (at
-        least a 30th of a second; None: no pose reported within ``gate_time``).
-
-        Colors outside it cannot pull the pose: without it, blobs of a poster or of
-        clothes in shirt colors next to the player were kept, grew the crop, and
-        the crop took in more of them frame after frame.
-        """
+        """Crop mask of where the shirt can be at ``t``: the last reported shirt's box
+        grown by ``gate_speed`` times its size per second since (None: no pose
+        reported within ``gate_time``)."""
         box = self._gate_box(st, t)
         if box is None:
             return None
@@ -412,13 +365,9 @@ class CameraWork:
 
     def refit_white_balance(self, st: CameraState, view: CameraView,
                             rend: RenderedPose) -> None:
-        """Step 5: ``W*`` from the final pose's id map; store it in ``st`` if it is new.
-
-        Pixels count when the final pose renders them (away from patch edges) and the
-        refined classification agrees on their color, so a slightly misplaced render
-        cannot drag a color's mean towards its neighbour's. ``W*`` is damped towards
-        the current ``W`` (``wb_smoothing``) against frame-to-frame jitter.
-        """
+        """Step 5: ``W*`` from the pixels where the final pose's render (away from
+        patch edges) and the classification agree, damped by ``wb_smoothing``;
+        stored in ``st`` if it is new."""
         colors = rend.color_ids()
         inner = cv2.erode((colors > 0).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
         keep = inner & (view.ids == colors)
@@ -437,8 +386,7 @@ class CameraWork:
     def remember_shirt(self, states: list[CameraState], renderer: PoseRenderer,
                        q: NDArray[np.float64], t: float) -> None:
         """After a pose is reported: every camera's gate and search box become the
-        box of the pose's shirt projected there (not the classified pixels' box,
-        which clutter in shirt colors next to the player can grow)."""
+        box of the pose's shirt projected there."""
         mesh = renderer.mesh
         cached = self._shirt_vertices
         if cached is None or cached[0] is not mesh:  # a mesh's indices never change
@@ -465,16 +413,11 @@ class CameraWork:
     def learn_room(self, states: list[CameraState], renderer: PoseRenderer,
                    q: NDArray[np.float64] | None, ever_reported: bool,
                    held: list[CameraView] | None = None) -> None:
-        """Every camera's room plate learns what lies outside the silhouette of the
-        pose ``q`` just reported (dilated); without a pose nothing, except before the
-        first pose (``ever_reported`` False) in a camera that found no shirt (the
-        empty room). ``held``: on a start frame, the regions that fit a shirt but
-        never moved (maybe a player standing still, :meth:`ColorShirtTracker._start_views`):
-        the room plate does not learn their player's region (the shirt's box down to
-        the image's lower edge) until it sees it change, and the floor cue's plate
-        does not learn a frame that has one (it learns start frames here, not in
-        :meth:`views`). Learned as the empty room, a player waiting still was masked
-        out of both plates within a few frames and never found."""
+        """Every camera's room plate learns what lies outside the dilated silhouette
+        of the pose ``q`` just reported; without a pose nothing, except before the
+        first pose in a camera that found no shirt (the empty room). ``held``: on a
+        start frame, regions that fit a shirt but never moved (maybe a still player):
+        no plate learns their player's region as room."""
         o = self.options
         skip: list[NDArray[np.bool_] | None] = []
         for i, cam in enumerate(self.cameras):

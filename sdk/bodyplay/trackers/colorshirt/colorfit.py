@@ -1,11 +1,5 @@
-"""Labeled shirt pixels for fitting the color model: synthetic renders or scribbles.
-
-The paper fits its Gaussians to five white-balanced photos labeled by scribbles.
-Here labels come either from the synthetic camera (render the MakeHuman actor in
-the shirt under the neutral ``steady`` lighting, then rasterize its patch id map
-with the same camera: every shirt pixel is labeled, eroded away from patch edges
-where colors mix), or from a user's scribble masks drawn over photos of a real
-shirt (each scribble painted in the sRGB of its patch color, black elsewhere).
+"""Labeled shirt pixels for fitting the color model: synthetic renders (labeled by the
+actor's rasterized patch ids) or a user's scribble masks over photos of a real shirt.
 """
 
 from __future__ import annotations
@@ -34,14 +28,9 @@ def synthetic_color_samples(
     per_image: int = 4000,
     reference: ColorModel | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """RGB pixels (N, 3) and color labels (N,) of the shirt in synthetic renders.
-
-    ``n_poses`` database-like poses are split over ``backgrounds``; each render's
-    pixels are labeled by the actor's rasterized patch id map, eroded by ``erode``
-    pixels per patch; at most ``per_image`` pixels per image are kept. With a
-    ``reference`` model each image is first white-balanced onto it with the
-    least-squares ``W`` of its labeled color means (the paper's "white-balanced
-    images"), so what remains is the variation a 3x3 ``W`` cannot remove.
+    """RGB pixels (N, 3) and color labels (N,) of the shirt in synthetic renders:
+    ``n_poses`` poses over ``backgrounds``, patches eroded by ``erode`` px, at most
+    ``per_image`` pixels an image, each image white-balanced onto ``reference`` if given.
     """
     from bodyplay.motion import sample_poses
     from bodyplay.render.idmap import render_idmaps

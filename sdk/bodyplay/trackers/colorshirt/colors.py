@@ -1,18 +1,8 @@
 """The shirt's color model: ten Gaussians in RGB and Mahalanobis pixel classification.
 
-The color-shirt paper models each of the ten fabric colors as a Gaussian
-``N(mu_k, Sigma_k)`` in RGB (0..255) and classifies a white-balanced pixel ``W I``
-as the nearest color in Mahalanobis distance when that distance is under ``T``
-(3 in step 1, 5 with the pose prior of step 3); farther pixels are unclassified.
-
-A *color id map* is a ``uint8`` image with 0 for unclassified / background and
-``k + 1`` for shirt color ``k`` (0..9, the order of
-:data:`bodyplay.body.shirt.SHIRT_COLORS`). The database of rendered poses uses the
-same convention, so classified crops and renders compare pixel by pixel.
-
-The classification kernel is numba-compiled: it white-balances, measures all ten
-distances, adds the optional per-color pose-prior penalty and thresholds in one
-pass over the pixels.
+A white-balanced pixel ``W I`` is the nearest of the ten colors in Mahalanobis
+distance when under ``T``. A *color id map* is ``uint8``: 0 unclassified, ``k + 1``
+shirt color ``k`` (:data:`bodyplay.body.shirt.SHIRT_COLORS`), as the database's.
 """
 
 from __future__ import annotations
@@ -103,10 +93,8 @@ def _classify_near_kernel(  # pragma: no cover - compiled
     far: np.float32,
 ) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
     """:func:`_classify_kernel` with the penalty ``strength`` times each color's least
-    distance to one of its patches (``dists[j]`` the distance map of patch ``patch[j]``
-    of color ``color[j]``; ``far`` for a color with none), computed per pixel, the same
-    float32 operations as the penalty map it replaces; also, per classified pixel, the
-    patch of its color that gave that least distance (the first of equal ones)."""
+    distance to one of its patches (``dists[j]`` of patch ``patch[j]`` of color
+    ``color[j]``; ``far`` for a color with none), and per classified pixel that patch."""
     h, w = image.shape[0], image.shape[1]
     k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
@@ -253,16 +241,9 @@ class ColorModel:
         return np.linalg.inv(L).astype(np.float32)
 
     def effective_inverse(self, white_balance: NDArray[np.float32]) -> NDArray[np.float32]:
-        """Inverse Cholesky factors of the covariances seen through ``white_balance``.
-
-        The Gaussians were fitted to images that needed little correction. A strong
-        ``W`` (a blue gain of 3 in dim tungsten light) also amplifies the camera's
-        measurement error ``e``: a balanced pixel ``W (x + e)`` spreads by
-        ``W S W^T`` instead of ``S``, ``S = measurement_noise^2 I``. The difference,
-        where it is positive, is added to every color's covariance, so dark, strongly
-        corrected colors are not rejected merely for being noisy. (The paper uses the
-        fitted covariances as they are: ``measurement_noise = 0``.)
-        """
+        """Inverse Cholesky factors of the covariances seen through ``white_balance``:
+        a balanced pixel ``W (x + e)`` spreads by ``W S W^T``, not ``S =
+        measurement_noise^2 I``; the positive part of the difference is added."""
         if self.measurement_noise <= 0:
             return self._linv
         W = np.asarray(white_balance, dtype=np.float64)
@@ -326,12 +307,10 @@ class ColorModel:
         strength: float,
         far: float = 1.0e4,
     ) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
-        """:meth:`classify` with the pose prior's penalty made on the fly: each color
-        ``k`` pays ``strength`` times the least of its patches' distance maps
-        (``distances[j]``, (M, H, W), of patch ``patch[j]`` of color ``color[j]``), or
-        ``far`` when none of its patches is given. Returns the color id map and, per
-        classified pixel, the patch of its color nearest to it (0 elsewhere): the same
-        as classifying with the (H, W, 10) penalty map, without making it."""
+        """:meth:`classify` with the pose prior's penalty made on the fly: color ``k``
+        pays ``strength`` times the least of its patches' distance maps (``distances``
+        (M, H, W) of patches ``patch`` of colors ``color``), or ``far`` without one.
+        Returns the id map and, per classified pixel, its color's nearest patch."""
         img, W, m = _checked(image, white_balance, mask)
         d = np.ascontiguousarray(distances, dtype=np.float32)
         if d.ndim != 3 or d.shape[1:] != img.shape[:2] or not len(patch) == len(color) == len(d):

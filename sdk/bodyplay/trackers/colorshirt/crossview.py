@@ -1,23 +1,11 @@
 """What the other cameras tell about the room: stereo background (beyond the paper).
 
-With the player in view from the first frame nothing shows the room behind a player
-who stands still, and clutter in shirt colours touching them is classified as the
-shirt. A second camera sees that clutter too, from elsewhere: the room's dominant
-surface (the back wall, or the floor) maps one camera's image onto the other's by
-a homography ``H``, estimated once from features matched between the two views
-(RANSAC keeps the surface most of the frame shows). Where a pixel ``p`` of camera
-``a`` and camera ``b``'s pixel at ``H p`` show the same colour, ``p`` shows that
-surface: a player standing in front of it is seen by ``b`` elsewhere (the ray
-through ``p`` meets the player, not the wall, and ``b`` sees that point at another
-place), so the colours differ. This is Ivanov, Bobick and Liu's disparity-verified
-background subtraction (IJCV 2000) with the background's disparity a homography.
-
-It fails where the player's own surface maps like the room's (a player standing
-against the wall): :meth:`CrossView.room` then finds much of the player's last
-torso box confirmed and does not use the cue in that camera for the frame. Short of
-that, inside a large patch of one colour the player's image may look alike too
-when it is shifted by little more than the room's (holes in a bent torso of the
-validation set's jumping jacks, 0-6% of the player's pixels a frame).
+The room's dominant surface maps one camera's image onto another's by a homography
+``H`` (ORB features, RANSAC, estimated once). Where camera ``a``'s pixel ``p`` and
+camera ``b``'s pixel at ``H p`` look alike, ``p`` shows that surface; a player in
+front of it is seen by ``b`` elsewhere. This is Ivanov, Bobick and Liu's
+disparity-verified background subtraction (IJCV 2000). A camera where much of the
+player's last torso box looks alike (a player against the wall) gets no answer.
 """
 
 from __future__ import annotations
@@ -38,8 +26,7 @@ Box = tuple[int, int, int, int]
 def _alike(fa: NDArray[np.float32], warped: NDArray[np.float32], gain: NDArray[np.float32],
            threshold: np.float32, same: NDArray[np.bool_]) -> None:  # pragma: no cover
     """``same |= valid & (sum |fa - warped * gain| < threshold)``, ``valid`` where the
-    warp reached (``warped`` >= 0): float32 operation by operation, the channels
-    summed in order, as numpy and :func:`cv2.transform` did it."""
+    warp reached (``warped`` >= 0)."""
     h, w = same.shape
     for y in range(h):
         for x in range(w):
@@ -55,13 +42,10 @@ def _alike(fa: NDArray[np.float32], warped: NDArray[np.float32], gain: NDArray[n
 class CrossView:
     """The room seen alike by two cameras (see the module docstring), per camera pair.
 
-    ``threshold``: the summed R + G + B difference (of the smoothed images, after one
-    gain per channel between the cameras) under which two pixels show the same room,
-    in a room at least as bright as ``contrast_level`` (dimmer rooms shrink it in
-    proportion, down to 30%, as the plates do); ``min_inliers``: feature matches the
-    homography must explain to be used; ``retry``: frames between attempts while no
-    homography was found; ``max_body_share``: share of the last torso box that may be
-    confirmed before the cue is dropped for that camera and frame.
+    ``threshold``, ``contrast_level``: as the plates' (smoothed images, one gain per
+    channel between the cameras); ``min_inliers``: matches the homography must
+    explain; ``retry``: frames between attempts without one; ``max_body_share``:
+    share of the last torso box that may look alike before the camera gets no answer.
     """
 
     def __init__(self, cameras: int, threshold: float = 25.0, contrast_level: float = 330.0,
@@ -101,13 +85,10 @@ class CrossView:
     def room(self, smalls: list[NDArray[np.uint8]], torso: list[Box | None],
              downscale: int, needed: list[bool] | None = None
              ) -> list[NDArray[np.bool_] | None]:
-        """Per camera, its pixels (at the images' reduced resolution) that another
-        camera shows as the same room; None where no camera can tell.
-
-        ``smalls``: every camera's frame, reduced by ``downscale``; ``torso``: each
-        camera's torso box of the last pose (full-resolution pixels, or None);
-        ``needed``: the cameras whose answer is wanted (default all; None for the
-        others, the homography's search goes on as if all were).
+        """Per camera, its pixels (of ``smalls``, the frames reduced by ``downscale``)
+        that another camera shows as the same room; None where no camera can tell.
+        ``torso``: each camera's last torso box (full-resolution px, or None);
+        ``needed``: the cameras whose answer is wanted (default all).
         """
         out: list[NDArray[np.bool_] | None] = [None] * len(smalls)
         if len(smalls) < 2:

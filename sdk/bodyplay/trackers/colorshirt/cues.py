@@ -1,17 +1,8 @@
 """Cues beyond the shirt, from the background plate: the feet and the head.
 
-Both read the plate's foreground (:class:`.floor.FloorWatch`), so both need the
-empty-room frames the plate learns from; without them they are simply absent.
-
-* :func:`floor_reading`: with one camera, where the feet meet the floor tells
-  the root's depth (:mod:`.floor`); the reading is combined over time with the
-  body's size by :class:`.depth.RootDepthFilter`.
-* :func:`head_anchors`: in every camera, the head found above the collar
-  (:mod:`.head`) becomes a 2-D constraint on the head joint in the IK, which the
-  shirt's patches leave to the database blend.
-* :func:`head_from_cue`: the reported head joint, moved onto the rays through the
-  heads found (the skeleton's neck length is generic, so the IK alone cannot
-  reach them).
+:func:`floor_reading`: one camera's root depth from the feet (:mod:`.floor`);
+:func:`head_anchors`: the heads found above the collar (:mod:`.head`) as IK
+anchors; :func:`head_from_cue`: the reported head joint on the rays through them.
 """
 
 from __future__ import annotations
@@ -40,8 +31,7 @@ HEAD_PATCH = NUM_PATCHES + 1
 
 _HEAD_NODE = NODE_NAMES.index("head")
 _HEAD_FIT_STD = 0.06
-"""Metres: how far the reported head may be from the fitted pose's head and still
-cost only one standard deviation (what keeps dim light's head error down)."""
+"""Metres: the std pulling the reported head towards the fitted pose's."""
 _NO_ANCHORS = PatchAnchors(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0, np.int64),
                            np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64))
 _HEAD_TOP = NODE_NAMES.index("head_top")
@@ -49,15 +39,10 @@ _HEAD_TOP = NODE_NAMES.index("head_top")
 
 @dataclass(frozen=True)
 class FloorReading:
-    """What the feet told about the root's depth in one frame.
-
-    ``depth``: the root's depth along the lone camera's axis that the feet tell
-    (None: no reading); ``stagger``: how far apart the two feet's floor points lie
-    along that camera's axis (metres; None unless both feet were found: the other
-    may be hidden behind, or too far above the lowest to count as a foot). A
-    staggered stance makes the reading unreliable: nothing in one image says which
-    foot bears the weight, and the pelvis can sit above either.
-    """
+    """What the feet told in one frame: the root's ``depth`` along the lone camera's
+    axis (m; None: no reading) and the ``stagger``, how far apart in depth the two
+    feet stand (m; None unless both were found: then one image cannot say which
+    foot bears the weight)."""
 
     stagger: float | None = None
     depth: float | None = None
@@ -66,17 +51,8 @@ class FloorReading:
 def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
                   views: Sequence[CameraView], options: ColorShirtOptions,
                   root_height: float) -> FloorReading:
-    """The root's depth that a lone camera reads from where the feet meet the floor.
-
-    The feet's floor points (their mean) are raised by ``root_height`` (m, the
-    root's height above the floor) and their depth along the camera's axis,
-    plus ``options.floor_offset``, is the reading. A camera that looks down sees
-    the root nearer than the feet below it (by the height times the sine of its
-    tilt: 12 cm for a 7.5 degree tilt and a 0.93 m pelvis), which a constant
-    offset on the feet's depth missed. Two cameras that see the shirt
-    triangulate its depth better than the feet tell it, so the cue only serves
-    a frame that one camera sees.
-    """
+    """The root's depth that a lone camera reads from the feet: their floor points'
+    mean raised by ``root_height`` (m), its depth plus ``options.floor_offset``."""
     if len(views) != 1 or not options.floor_cue:
         return FloorReading()
     cam = cameras[views[0].index]
@@ -97,16 +73,8 @@ def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],
                  states: Sequence[CameraState], views: Sequence[CameraView],
                  options: ColorShirtOptions) -> tuple[PatchAnchors, list[tuple[int, HeadPoint]]]:
-    """One anchor on the head per camera whose plate shows the head near pose ``q``.
-
-    Returns the anchors and, per camera where the head was found, its index and
-    the :class:`HeadPoint`.
-
-    The anchor sits ``options.head_offset`` above the head joint along the head's
-    axis (the visible head's centre lies above the joint, which is midway between
-    the ears); its standard deviation is ``options.head_std`` metres at the head's
-    depth.
-    """
+    """One anchor on the head per camera whose plate shows the head near pose ``q``
+    (``head_offset`` above the joint, std ``head_std`` m), and the heads found."""
     if not options.head_cue:
         return _NO_ANCHORS, []
     J = skeleton.joint_positions(q)
@@ -149,18 +117,9 @@ def head_from_cue(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[
                   max_shift: float = 0.12) -> NDArray[np.float64] | None:
     """The head joint placed on the rays through the heads found, or None.
 
-    The IK pulls the head anchor towards the heads found, but the skeleton's
-    neck-to-head length is the preset's, so the anchor ends between them and the
-    shoulder patches, below the true head. Here the anchor point of the fitted pose
-    (``head_offset`` above the head joint along the head's axis) is moved to the
-    point nearest to all rays through the found centres (each with the head
-    cue's ``head_std``), pulled towards where the pose put it with a standard
-    deviation of 6 cm: one camera moves it across its ray only, two triangulate
-    it, and the pull keeps a few pixels' error in the found centres (dim light
-    leaves part of the head out of the foreground) from sliding the triangulated
-    point far along the rays, which a 1 m baseline at 2.6 m cannot pin down.
-    The head joint keeps its offset below that point.
-    A move of more than ``max_shift`` metres is not trusted (None).
+    The fitted pose's head anchor moves to the point nearest to every ray (std
+    ``head_std``) and to where the pose put it (:data:`_HEAD_FIT_STD`): the skeleton's
+    neck length is generic. A move over ``max_shift`` metres is not trusted (None).
     """
     if not found:
         return None

@@ -1,22 +1,11 @@
 """The pose database: tiny id maps of rendered poses, nearest-neighbour search, blending.
 
-Step 2 of the paper looks the classified shirt up in a database of rendered
-upper-body poses (80,000 in the paper) as 40x40 color id maps, takes the ten
-nearest neighbours under the per-pixel mismatch distance and blends their poses.
-
-Poses come from :func:`bodyplay.motion.sample_poses` and get a random orientation
-facing a *canonical camera* (yaw within ``yaw_deg``, 80 degrees, some lean). Each
-is skinned with the generic body mesh and rasterized in the bounding box of its
-shirt vertices, normalized into a square 40x40 crop exactly as
-:func:`bodyplay.render.idmap.crop_transform` does; the crop scale and the root's
-crop position and depth are kept so a blended pose can be placed in any camera.
-
-Search: exact mismatch over 80,000 maps of 1,600 pixels is too slow per frame,
-so every map is also stored as a short feature (one-hot colors averaged over 4x4
-blocks, projected on 64 principal components); a matrix-vector product ranks all
-poses by feature distance and the best ``candidates`` are re-ranked by the exact
-mismatch. Databases are cached on disk keyed by a hash of everything that shapes
-them, and rebuilt when any of it changes.
+Poses from :func:`bodyplay.motion.sample_poses`, turned towards a *canonical camera*
+(within ``yaw_deg``), are rendered as 40x40 id maps of their shirt's bounding box (with the
+root's place and depth, to place a blend in any camera). A query ranks every map by
+pooled one-hot features on principal components and re-ranks the best
+``candidates`` by the exact per-pixel mismatch. Cached on disk under a hash of
+everything that shapes it.
 """
 
 from __future__ import annotations
@@ -53,14 +42,10 @@ _POOL = 4  # feature pooling block (40x40 -> 10x10)
 
 @dataclass(frozen=True)
 class DatabaseOptions:
-    """What the database holds and how it is searched.
-
-    ``size`` poses (the paper uses 80,000); ``map_size`` the side of the id maps;
-    ``yaw_deg`` the range of orientations relative to the
-    canonical camera (``tilt_deg`` the largest lean); ``pca_dims`` and ``candidates``
-    the coarse search;
-    ``neighbours`` how many are blended; ``margin`` the crop margin.
-    """
+    """What the database holds and how it is searched: ``size`` poses (paper: 80,000),
+    ``map_size`` the id maps' side, ``yaw_deg`` and ``tilt_deg`` (largest lean) about
+    the canonical camera, the coarse search (``pca_dims``, ``candidates``),
+    ``neighbours`` blended, ``margin`` the crop's margin."""
 
     size: int = 20_000
     map_size: int = 40
@@ -124,12 +109,8 @@ def shirt_vertex_mask(mesh: SkinnedMesh) -> NDArray[np.bool_]:
 def sample_database_poses(
     skeleton: Skeleton, n: int, rng: np.random.Generator, options: DatabaseOptions
 ) -> NDArray[np.float64]:
-    """``n`` upper-body poses from :func:`bodyplay.motion.sample_poses`, facing the camera.
-
-    Mixed clip frames (the built-in CMU clips), random upper bodies and blends, with
-    yaw within ``options.yaw_deg`` of facing the canonical camera and a small tilt;
-    drawn without thinning (farthest-point thinning costs minutes at 80,000).
-    """
+    """``n`` upper-body poses from :func:`bodyplay.motion.sample_poses`, facing the
+    canonical camera within ``options.yaw_deg``."""
     from bodyplay.motion import list_builtin_clips, sample_poses
 
     yaw = float(np.radians(options.yaw_deg))
@@ -197,15 +178,17 @@ def _project_crops(  # pragma: no cover - compiled
     return uvz, scale, offset
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, nogil=True)
 def _pooled_onehot(  # pragma: no cover - compiled
     ids: NDArray[np.uint8], pool: int, ncls: int
 ) -> NDArray[np.float32]:
+    """(B, S, S) id maps -> (B, (S / pool)^2 * ncls) one-hot colors averaged over blocks,
+    on the calling thread."""
     B, S = ids.shape[0], ids.shape[1]
     g = S // pool
     out = np.zeros((B, g, g, ncls), np.float32)
     inv = np.float32(1.0 / (pool * pool))
-    for b in numba.prange(B):
+    for b in range(B):
         for y in range(S):
             for x in range(S):
                 out[b, y // pool, x // pool, ids[b, y, x]] += inv
@@ -215,12 +198,7 @@ def _pooled_onehot(  # pragma: no cover - compiled
 @numba.njit(cache=True, nogil=True, fastmath=True)
 def _matvec(A: NDArray[np.float32], x: NDArray[np.float32]
             ) -> NDArray[np.float32]:  # pragma: no cover - compiled
-    """``A @ x`` on the calling thread.
-
-    Per frame, ``numpy``'s ``@`` of this size wakes OpenBLAS's thread pool, whose
-    threads then spin on the second core and starve OpenCV and the other camera's
-    work: two cameras took 64-76 ms per frame set with it and 49-52 ms with this.
-    """
+    """``A @ x`` on the calling thread (numpy's would wake OpenBLAS's thread pool)."""
     out = np.empty(A.shape[0], np.float32)
     for i in range(A.shape[0]):
         s = np.float32(0.0)
@@ -228,20 +206,6 @@ def _matvec(A: NDArray[np.float32], x: NDArray[np.float32]
             s += A[i, j] * x[j]
         out[i] = s
     return out
-
-
-@numba.njit(cache=True, nogil=True)
-def _pooled_onehot_one(  # pragma: no cover - compiled
-    ids: NDArray[np.uint8], pool: int, ncls: int
-) -> NDArray[np.float32]:
-    S = ids.shape[0]
-    g = S // pool
-    out = np.zeros((g, g, ncls), np.float32)
-    inv = np.float32(1.0 / (pool * pool))
-    for y in range(S):
-        for x in range(S):
-            out[y // pool, x // pool, ids[y, x]] += inv
-    return out.reshape(g * g * ncls)
 
 
 def _features(ids: NDArray[np.uint8]) -> NDArray[np.float32]:
@@ -337,8 +301,7 @@ class PoseDatabase:
 
     def query_features(self, idmap: NDArray[np.uint8]) -> NDArray[np.float32]:
         """Project one id map onto the principal components."""
-        f = _pooled_onehot_one(np.ascontiguousarray(idmap, np.uint8), _POOL,
-                               NUM_COLORS + 1) - self.pca_mean
+        f = _features(idmap[None])[0] - self.pca_mean
         return _matvec(self._basis, np.asarray(f, np.float32))
 
     def query(self, idmap: NDArray[np.uint8], k: int | None = None,

@@ -1,42 +1,17 @@
 """One camera's root depth over time: one Kalman filter for the feet and the body's size.
 
-One camera cannot tell a small person near from a tall one far. Two cues tell
-the root's depth ``d`` along the camera's axis, each with a stated noise:
+Two cues read the root's depth ``d`` along the camera's axis: the **feet** on the
+floor (:mod:`.floor`, ``d + b``, ``b`` the stance's bias) and the **shirt**, the
+torso's patch layout fitted at the size it looks (``d / (s (1 + e))``, ``s`` the
+player's size relative to the reference body, ``e`` the shirt's own bias).
+:class:`RootDepthFilter` combines them in an extended Kalman filter (filterpy) on
+``[depth, depth speed, s, b, e]``. A reading beyond ``gate`` variances is left out,
+a floor reading further than one std beyond the prediction too (feet leaving the
+floor); ``max_rejects`` rejections in a row restart the depth. Beyond the paper.
 
-* the **feet on the floor** (:mod:`.floor`): where the lowest pixels of the
-  person meet the floor, raised to the root's height; a few cm when the feet
-  stand on the floor, metres off when they leave it, absent without a background
-  plate;
-* the **body's known lengths**: the torso's patch anchors fitted to the image,
-  held only loosely at the database placement (:meth:`.ik.KinematicSolver.solve_global`),
-  put the root at the depth where the skeleton's metric lengths project as large as
-  the shirt looks. It is always there, noisy (a lean towards the camera reads as
-  distance) and biased by the ratio of the player's size to the model's: an 8%
-  larger player reads 8% too near.
-
-:class:`RootDepthFilter` combines them in one Kalman filter (filterpy) on
-``[depth, depth speed, body scale, floor bias, shirt bias]``. The shirt reads
-``d / (s (1 + e))`` (linearized about the state: an extended Kalman filter;
-``s`` the player's size relative to the reference body, ``e`` the shirt's own
-bias per player, beyond the size: the generic mesh against the player's
-torso). The biases are what no number of readings averages away, so the
-reported uncertainty never falls below them: ``b_f``, where the lowest pixel
-of a foot lies relative to the pelvis in this player's stance (toes towards
-the camera, a bow that moves the pelvis back; prior ``floor_bias_std``).
-
-Each reading is left out when its innovation exceeds ``gate`` variances, and a
-floor reading further than predicted by more than one standard deviation of
-the innovation is left out too (feet that leave the floor read further: a
-hop's rising feet passed a symmetric gate a little at a time and dragged the
-depth too far). A player who really walks away is followed through the
-shirt's readings, or after ``max_rejects`` floor readings in a row. Beyond the
-paper. (A third cue, the root's height on its ray, the *stance*, was an option
-off by default and was removed: docs/colorshirt.md, "Removed".)
-
-Per frame: :meth:`RootDepthFilter.begin` (predict; the feet's floor reading),
-:meth:`RootDepthFilter.posterior` for each candidate fit (its readings folded
-in, nothing committed: the IK's prior on the root's depth), and
-:meth:`RootDepthFilter.end` with the reported fit's readings.
+Per frame: :meth:`RootDepthFilter.begin`, :meth:`RootDepthFilter.posterior` for
+each candidate fit (nothing committed), :meth:`RootDepthFilter.end` with the
+reported fit's reading.
 """
 
 from __future__ import annotations
@@ -56,20 +31,16 @@ _N = 5
 
 @dataclass
 class RootDepthFilter:
-    """Kalman filter on ``[depth, depth speed, body scale, floor bias, shirt bias]``
-    along a lone camera's axis (see the module docstring).
+    """Kalman filter on ``[depth, depth speed, scale, floor bias, shirt bias]`` along
+    a lone camera's axis (see the module docstring).
 
-    ``accel``: std of the root's acceleration along the axis (m/s², white noise);
-    ``floor_std``: std of a floor reading (m); ``shirt_std``: std of the shirt's
-    reading as a fraction of the depth; ``scale_std``: the prior std of the
-    player's size relative to the reference body; ``floor_bias_std``: the prior std
-    of the floor readings' common bias (m); ``shirt_bias``, ``shirt_bias_std``: the
-    prior mean and std of the shirt's own bias ``e`` (the shirt reads
-    ``d / (s (1 + e))``); ``gate``: squared innovation, in variances, beyond which a
-    reading is left out; after ``max_rejects`` rejected floor readings in a row
-    the depth restarts from the reading (it, not the prediction, was right),
-    unless the shirt's reading contradicts it too; ``horizon``: seconds without a
-    reading after which the depth lapses (the learned scale and biases stay).
+    ``accel``: the root's acceleration std (m/s²); ``floor_std`` (m), ``shirt_std``
+    (fraction of the depth): the readings' stds; ``scale_std``, ``floor_bias_std``,
+    ``shirt_bias``, ``shirt_bias_std``: the priors of ``s``, ``b`` (m) and ``e``;
+    ``gate``: squared innovation, in variances, beyond which a reading is left out;
+    ``max_rejects``: rejections in a row that restart the depth from the reading;
+    ``horizon``: seconds without a reading after which the depth lapses (``s``,
+    ``b``, ``e`` stay).
     """
 
     accel: float = 3.0
@@ -159,13 +130,6 @@ class RootDepthFilter:
         """The depth's current estimate (m along the camera's axis), None without one."""
         return None if self.kf is None else float(self.kf.x[0])
 
-    def scale(self) -> tuple[float, float]:
-        """The player's size relative to the reference body, and its std."""
-        if self.kf is not None:
-            return float(self.kf.x[2]), float(np.sqrt(self.kf.P[2, 2]))
-        assert self._body is not None
-        return float(self._body[0][0]), float(np.sqrt(self._body[1][0, 0]))
-
     # ---- per frame -----------------------------------------------------------------
     def begin(self, index: int | None, t: float, floor: float | None,
               cameras_seeing: int = 1) -> None:
@@ -254,11 +218,8 @@ class RootDepthFilter:
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
     def _shirt_agrees(self, floor: float, shirt: float | None) -> bool:
-        """Whether the shirt's reading ``shirt`` (None: none) leaves the floor reading
-        ``floor`` possible: their depths, each with its own and the player's
-        uncertainty, within ``gate`` variances. Floor readings that keep disagreeing
-        with the filter restart it only then (clothes piled on the floor next to
-        the player, read as far feet, restarted it there otherwise)."""
+        """Whether the shirt's reading (None: none) leaves the floor reading possible
+        (within ``gate`` variances): rejected floor readings restart only then."""
         x, P = self._from_floor(floor)
         if shirt is None or not (np.isfinite(shirt) and shirt > 0):
             return True

@@ -1,25 +1,11 @@
-"""Where the feet meet the floor: a depth cue for one camera, from a background plate.
+"""Where the feet meet the floor: a depth cue for one camera (beyond the paper).
 
-One camera cannot tell a small person near from a tall one far: the shirt alone
-fixes only the ratio of size to distance. The feet can: they stand on the floor
-(world ``y = 0``), so the ray through the lowest pixel of the person meets the
-floor at the person's distance. Beyond the paper.
-
-Finding the feet needs a foreground mask that keeps legs that do not move, which
-an adaptive subtractor (MOG2) does not: it absorbs a still person within frames.
-:class:`BackgroundPlate` therefore learns the empty room (as a game does when it
-asks the player to step out of view for a moment) and afterwards updates only
-away from the person, correcting the plate for global changes of light by a gain
-per channel measured there. :func:`feet_points` takes the lowest foreground pixels
-of each foot of the blob below the shirt; :func:`floor_depth` turns them into a depth along the
-camera's axis.
-
-Without empty-room frames (the player in view from the first frame) the feet are
-read from the room plate (:class:`.plate.RoomPlate`), which learns the room from
-what the player uncovers: a foot counts only where the plate knows the floor
-under it, so a player who walks onto floor seen before tells the depth, and one
-who stands still where the room was never seen gives no reading (the tracker
-then falls back on the shirt's size, as without any plate).
+The feet stand on the floor (world ``y = 0``), so the ray through the person's
+lowest pixel meets the floor at the person's distance. The feet need a mask that
+keeps still legs, which MOG2 absorbs: :class:`BackgroundPlate` learns the empty
+room and then follows it only away from the person, with one gain per channel for
+the light. Without empty-room frames the feet come from the room plate
+(:class:`.plate.RoomPlate`), where it knows the floor under them.
 """
 
 from __future__ import annotations
@@ -40,20 +26,18 @@ __all__ = [
 Box = tuple[int, int, int, int]
 
 _JOIN = np.ones((5, 5), np.uint8)
-"""The blob is labelled on the mask dilated by this (plate pixels), so that the
-parts of a foot that the plate's threshold splits still count as the body's: a
-dark foot's instep matches a gray floor, the toes below it were an island of
-their own, and the foot's lowest pixel came out at the instep, 10-20 px too
-high (20-30 cm too far). The lowest points are read on the undilated mask."""
+"""The blob is labelled on the mask dilated by this, so that a foot the plate's
+threshold splits stays one; its lowest points are read on the undilated mask."""
 
 
 class BackgroundPlate:
-    """The empty room as seen by one camera, at reduced resolution (OpenCV running mean).
+    """The empty room as seen by one camera, at reduced resolution (a running mean).
 
-    While nobody is in view (:meth:`learn`), every pixel follows the frames; once
-    ``min_frames`` such frames were seen the plate is :attr:`ready`. While a person
-    is tracked (:meth:`update_around`), only pixels outside the person's region
-    follow, slowly, so that a player who stands still never fades into the plate.
+    While nobody is in view (:meth:`learn`) every pixel follows the frames (ready
+    after ``min_frames``); while a person is tracked (:meth:`update_around`) only
+    pixels outside the person's region follow, slowly. ``threshold``: summed
+    absolute R, G, B difference that counts as foreground in a room at least as
+    bright as ``contrast_level`` (dimmer rooms shrink it in proportion, to 30%).
     """
 
     def __init__(self, downscale: int = 2, min_frames: int = 8, rate: float = 0.02,
@@ -62,19 +46,7 @@ class BackgroundPlate:
         self.min_frames = int(min_frames)
         self.rate = float(rate)
         self.threshold = float(threshold)
-        """Summed absolute difference over R, G, B (0..765) that counts as foreground
-        in a scene at least as bright as ``contrast_level``."""
         self.contrast_level = float(contrast_level)
-        """Summed R + G + B mean of the room (a mid-gray room: 330) below which the
-        threshold shrinks in proportion, down to 30% of itself: in dim light every
-        difference shrinks with the light, and a fixed threshold left the shaded side
-        of the head out of the foreground (in the ``dim`` preset the head cue's disk
-        was 60-75% full and its centre 4-6 px off in one camera; scaled, 86-95%
-        full and 2-3 px off)."""
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the plate."""
         self._mean: NDArray[np.float32] | None = None
         self._frames = 0
 
@@ -102,15 +74,9 @@ class BackgroundPlate:
         cv2.accumulateWeighted(small, self._mean, alpha)
 
     def update_around(self, small: NDArray[np.float32], person: Box) -> None:
-        """A tracked frame: the whole plate follows the light's global change (one
-        gain per channel, measured outside ``person``), then pixels outside
-        ``person`` (plate pixels) follow the frame slowly.
-
-        Scaling the whole plate keeps the part behind the person in step with the
-        part around it: when only the surroundings followed a lamp switched off,
-        the gain measured there drifted back to 1 within a few dozen frames while
-        the plate behind the person still showed the room in the old light, and
-        the whole region turned foreground.
+        """A tracked frame: the whole plate follows the light's change (one gain per
+        channel, measured outside ``person``, plate pixels, so that the room behind
+        the person keeps step), then pixels outside ``person`` follow the frame slowly.
         """
         if self._mean is None:
             return
@@ -142,14 +108,8 @@ class BackgroundPlate:
         return np.ones(3, np.float32), float(np.sum(cv2.mean(plate[::step, ::step])[:3]))
 
     def foreground(self, small: NDArray[np.float32], person: Box) -> NDArray[np.bool_] | None:
-        """Foreground mask of ``small`` within ``person`` (False elsewhere).
-
-        The plate is first scaled by the light's change, and the threshold by the
-        room's brightness (:attr:`contrast_level`).
-
-        The change is one gain per channel: the ratio of the frame's mean to the
-        plate's over the pixels outside ``person``. None before the plate is ready.
-        """
+        """Foreground mask of ``small`` within ``person`` (False elsewhere), the plate
+        scaled by the light's change outside ``person``; None before it is ready."""
         if not self.ready or self._mean is None:
             return None
         gain, level = self._light_change(small, person)
@@ -187,17 +147,11 @@ def feet_points(fg: NDArray[np.bool_], shirt: Box, downscale: int,
     """The lowest point of each foot of the blob the shirt belongs to (none, one or two).
 
     ``fg`` is a plate-resolution mask, ``shirt`` the shirt's box in full-resolution
-    pixels. The feet are the runs of columns whose lowest blob pixel lies in the
-    blob's lowest tenth; the two lowest runs count (a foot hidden behind the other
-    leaves one). With ``known`` (the pixels a :class:`.plate.RoomPlate` has learned,
-    whose ``fg`` counts unknown pixels as the player's), a foot counts only where
-    its lowest pixels are known (the room there was seen, so the foot is *seen* to
-    differ from it) and the pixel below each is known room: the foot's edge is
-    observed, not the edge of what the plate has not learned yet (the silhouette
-    grown around a still player, which read the feet 30-60 cm too near). Nothing
-    is returned when the shirt's box holds little foreground
-    (the plate does not fit the scene), when the blob reaches the image's lower edge
-    (feet out of view) or when nothing of it lies below the shirt (no legs).
+    pixels. The feet are the two lowest runs of columns whose lowest blob pixel lies
+    in the blob's lowest tenth. With ``known`` (a room plate's learned pixels) a foot
+    counts only where its lowest pixels and the pixels below them are known room.
+    None when the shirt's box holds little foreground, the blob reaches the image's
+    lower edge, or nothing of it lies below the shirt.
     """
     s = downscale
     h, w = fg.shape
@@ -264,23 +218,20 @@ class FloorWatch:
     """One camera's floor cue across frames: its plate, and each frame's feet on demand.
 
     Per frame: :meth:`start` with the image, then :meth:`no_shirt` or
-    :meth:`shirt_at`; :meth:`feet` finds the feet only when asked (the tracker asks
-    when one camera alone sees the shirt), so a second camera costs only the plate.
+    :meth:`shirt_at`; :meth:`feet` finds the feet only when asked.
     """
 
     def __init__(self, plate: BackgroundPlate | None = None) -> None:
         self.plate = plate or BackgroundPlate()
         self.seen_shirt = False
-        """Whether the shirt was found since the last reset (the plate then stops
-        learning the whole frame)."""
+        """Whether the shirt was confirmed (the plate then stops learning it)."""
         self._small: NDArray[np.float32] | None = None
         self._shirt: Box | None = None
         self._feet: tuple[FeetPoint, ...] | None = None
         self._fg: NDArray[np.bool_] | None = None
         self._fg_done = False
         self.room: RoomPlate | None = None
-        """The room learned from what the player uncovers: the feet's source while
-        the plate has seen no empty room."""
+        """The feet's source while the plate has seen no empty room."""
 
     def start(self, image: NDArray[np.uint8], reduced: bool = False) -> None:
         """A new frame (undistorted RGB, full resolution, or already at the plate's
@@ -292,19 +243,13 @@ class FloorWatch:
         self._fg_done = False
 
     def no_shirt(self) -> None:
-        """A frame before any pose was reported (whether or not a shirt-like region
-        was found in it): until the first shirt is confirmed, the plate learns it."""
+        """A frame before any pose was reported: the plate learns it."""
         if self._small is not None and not self.seen_shirt:
             self.plate.learn(self._small)
 
     def shirt_at(self, shirt: Box, confirmed: bool = True) -> None:
-        """The shirt's box (full-resolution px) in this frame; the plate moves on around it.
-
-        ``confirmed``: whether the tracker has reported a pose yet. Until it has,
-        a shirt-like region may be clutter of the room (clothes or a poster in
-        shirt colors), and the plate goes on learning the whole frame (the
-        tracker calls :meth:`no_shirt` on every such frame).
-        """
+        """The shirt's box (full-resolution px) in this frame; the plate moves on
+        around it once a pose was reported (``confirmed``)."""
         self._shirt = shirt
         if not confirmed and not self.seen_shirt:
             return  # the plate learned the frame (:meth:`no_shirt`)
@@ -330,11 +275,7 @@ class FloorWatch:
 
     def crop_foreground(self, box: Box, size: tuple[int, int]) -> NDArray[np.bool_] | None:
         """The plate's foreground inside ``box`` (full-resolution px), resized to ``size``
-        (width, height) of the working crop; None before the plate is ready.
-
-        Unlike MOG2's mask, the plate never learns the player: a player who stands
-        still stays foreground, so the mask can be trusted right next to the shirt.
-        """
+        (width, height) of the working crop; None before the plate is ready."""
         if self._small is None or not self.plate.ready:
             return None
         d = self.plate.downscale

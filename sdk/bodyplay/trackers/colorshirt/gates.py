@@ -1,10 +1,5 @@
-"""What a fit must pass to be reported: plausibility and the speed gate.
-
-A garbage fit (right after a light switch, on clutter in shirt colours, with half
-the shirt unclassified) is reported lost rather than as a pose metres away:
-:func:`plausible` checks one estimate on its own, :class:`SpeedGate` checks it
-against the pose reported before it.
-"""
+"""What a fit must pass to be reported: :func:`plausible` on its own, and
+:class:`SpeedGate` against the pose reported before it."""
 
 from __future__ import annotations
 
@@ -21,11 +16,7 @@ from bodyplay.trackers.colorshirt.views import CameraView
 __all__ = ["ROOT_HEIGHT", "SpeedGate", "plausible", "within_reach"]
 
 ROOT_HEIGHT = (0.3, 1.4)
-"""Metres above the floor (world y = 0) where a lone camera's fitted root may be: one
-camera fits the shirt's size at any depth, and a fit of clutter in shirt colours (a
-pile of clothes on the floor, 5 m too far) put the root deep under the floor. The top
-is the largest preset's standing pelvis (1.04 m) and a 0.36 m jump (a clothes rail
-near the camera fitted higher; docs/colorshirt-history.md, section 10)."""
+"""Metres above the floor where a lone camera's fitted root may be."""
 
 
 def plausible(skeleton: Skeleton, cameras: Sequence[Camera], q: NDArray[np.float64],
@@ -51,14 +42,8 @@ def plausible(skeleton: Skeleton, cameras: Sequence[Camera], q: NDArray[np.float
 
 def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
                  root: NDArray[np.float64], max_speed: float) -> bool:
-    """Whether ``root`` at time ``t`` is within reach of the root ``reported`` (time,
-    position) last.
-
-    A person's pelvis does not cross the room between two frames: a fit whose
-    root lies further than ``0.25 m + max_speed * dt`` from the pose reported at
-    most a second ago is a wrong fit (a light switched off, the shirt half
-    unclassified), and the tracker reports the frame lost instead.
-    """
+    """Whether ``root`` at time ``t`` lies within ``0.25 m + max_speed * dt`` of the
+    root ``reported`` (time, position) at most a second before."""
     if reported is None:
         return True
     t_prev, last = reported
@@ -71,15 +56,9 @@ def within_reach(reported: tuple[float, NDArray[np.float64]] | None, t: float,
 class SpeedGate:
     """The root of each fit against the one reported last (:func:`within_reach`).
 
-    An outlier does not hold the gate: a *good* fit (residual at most
-    ``good_residual``) that is out of reach of the last pose reported but within
-    reach of the fit rejected just before it takes over, since two good fits in a
-    row outvote the one reported before them (one wrong fit 3.9 m too deep once
-    made the gate reject every right fit after it for a second). Only fits whose
-    depth is *confirmed* vote: in a rig of several cameras, a fit that one camera
-    alone saw has the shirt's size for its depth, and two such fits in a row, metres
-    too deep, outvoted the pose both cameras had placed (jumping jacks among clothes
-    in shirt colours: 1.8 and 2.7 m off).
+    Two good fits in a row (residual at most ``good_residual``) that agree outvote
+    the pose reported before them, if their depth is *confirmed* (not one camera
+    alone of several).
     """
 
     def __init__(self, max_speed: float, good_residual: float) -> None:

@@ -1,17 +1,9 @@
-"""Where the head is: a cue from the background plate for the one joint the shirt misses.
+"""Where the head is: a cue from the background plate for the joint the shirt misses.
 
-The shirt covers the torso and arms; the head has no patch, so the paper's IK
-leaves it wherever the database blend puts it (8 cm off on average with two
-cameras on the benchmark, more than any torso joint). Above the collar, though,
-the head is the only foreground: given where the current fit predicts the head,
-:func:`find_head` looks in the plate's foreground mask (:mod:`.floor`) for a disk
-of the head's projected size there, above the neck, and returns its centre. The
-tracker turns each camera's centre into a 2-D constraint on the head joint
-(a patch anchor on the head node) in its IK. Beyond the paper.
-
-The cue needs what the floor cue needs (empty-room frames before the shirt first
-appears); without a plate, or when the disk is mostly empty (the head out of view
-or hidden), it is absent and the head follows the blend as before.
+The head has no patch, but above the collar it is the only foreground:
+:func:`find_head` looks in the plate's foreground near where the fit predicts the
+head for a disk of the head's projected size. Beyond the paper; without a plate
+(no empty-room frames) the head follows the blend.
 """
 
 from __future__ import annotations

@@ -1,25 +1,17 @@
 """Fitting the skeleton to patch centroids: 6-DOF global pose and upper-body IK.
 
-Steps 2 and 4 of the paper move the skeleton so that the rendered patch centroids
-land on the classified ones in every camera. Rendering inside the optimizer would
-be slow, so each visible patch becomes a *patch anchor*: the 3-D point (found by
-back-projecting the rendered patch centroid at its mean depth) rigidly attached to
-the bone the patch covers. Moving the skeleton moves the anchors; their pinhole
-projections are compared with the image centroids.
-
-The objective is the paper's ``sum ||c(q) - c||^2_Sigma_c + ||q - q_b||^2_Sigma_b +
-||q - q_h||^2_Sigma_p``, with diagonal covariances trained on synthetic ground truth
-(:class:`PriorModel`). The pelvis orientation is optimized as a small rotation
-applied to the starting orientation, so rotation vectors never meet their
-singularity at 180 degrees. Forward kinematics and projection of a whole batch of
-perturbed poses run in one numba call, which gives the finite-difference Jacobian
-for MINPACK's Levenberg-Marquardt in one call.
+Each visible patch is a *patch anchor* (its rendered centroid back-projected and
+attached to its bone); the paper's energy ``sum ||c(q) - c||^2_Sigma_c + ||q -
+q_b||^2_Sigma_b + ||q - q_h||^2_Sigma_p`` (diagonal covariances, :class:`PriorModel`)
+is minimized by MINPACK's Levenberg-Marquardt, the pelvis orientation as a small
+rotation applied to the start, the Jacobian's perturbed poses projected in one
+numba call.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
@@ -55,8 +47,7 @@ GLOBAL_DOFS: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
 """Root position and pelvis orientation in the pose vector."""
 
 _TURN = 4
-"""Index of the pelvis's turn (rotation about its own up axis) among the 6-DOF fit's
-parameters (the orientation is a rotation vector in the pelvis's frame)."""
+"""Index of the pelvis's turn about its up axis among the 6-DOF fit's parameters."""
 _TRUNK_TURN = [3 + 3 * IK_NODES.index(n) + 1 for n in ("pelvis", "lumbar", "thorax")]
 """Indices of the trunk's turns (pelvis, lumbar, thorax) among the IK's parameters."""
 
@@ -253,13 +244,8 @@ def default_prior_model() -> PriorModel:
 
 @dataclass(frozen=True)
 class RootPrior:
-    """A Gaussian prior on one linear coordinate of the root position.
-
-    ``direction . root`` should be near ``target`` with standard deviation ``std``
-    (metres). With ``direction`` a camera's optical axis in world coordinates and
-    ``target`` the root's depth minus the camera's ``t[2]``, it pins the root's depth
-    in that camera, which one camera alone cannot tell from the body's size.
-    """
+    """A Gaussian prior ``direction . root ~ N(target, std^2)`` (metres), e.g. the
+    root's depth along a camera's axis (:meth:`camera_depth`)."""
 
     direction: tuple[float, float, float]
     target: float
@@ -271,18 +257,6 @@ class RootPrior:
         axis = camera.R[2]
         return cls((float(axis[0]), float(axis[1]), float(axis[2])),
                    float(depth - camera.t[2]), float(std))
-
-
-@dataclass
-class _Problem:
-    q_template: NDArray[np.float64]
-    R0: NDArray[np.float64]
-    free: NDArray[np.int64]
-    anchors: PatchAnchors
-    prior_targets: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = field(
-        default_factory=list
-    )
-    root_priors: tuple[RootPrior, ...] = ()
 
 
 class KinematicSolver:
@@ -324,17 +298,13 @@ class KinematicSolver:
         )
 
     # ---- solving -----------------------------------------------------------------
-    def _solve(self, pb: _Problem, max_nfev: int, limits: bool) -> NDArray[np.float64]:
-        """Levenberg-Marquardt on anchors + priors (+ joint limits as steep penalties).
-
-        MINPACK's LM is several times faster than the bounded trust-region solver
-        for these small problems; limits become residuals ``(q - hi) / 0.02`` beyond
-        the bounds and the result is clamped to them.
-        """
-        free = pb.free
-        a = pb.anchors
+    def _solve(self, q0: NDArray[np.float64], R0: NDArray[np.float64], free: NDArray[np.int64],
+               a: PatchAnchors, priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]],
+               root_priors: tuple[RootPrior, ...], max_nfev: int, limits: bool
+               ) -> NDArray[np.float64]:
+        """Levenberg-Marquardt on anchors + priors (+ joint limits as residuals
+        ``(q - hi) / 0.02`` beyond the bounds; the result is clamped to them)."""
         inv_sigma = 1.0 / a.sigma
-        q0 = pb.q_template
         lo = self._lo[free].copy()
         hi = self._hi[free].copy()
         lo[:6] = -np.inf  # root position and the pelvis delta rotation are free
@@ -343,8 +313,7 @@ class KinematicSolver:
         x0 = np.clip(q0[free], lo, hi)
         n_a = len(a)
         n_x = len(free)
-        priors = pb.prior_targets
-        n_rp = len(pb.root_priors)
+        n_rp = len(root_priors)
         n_res = 2 * n_a + n_x * len(priors) + n_rp + int(lim.sum())
         if n_res < n_x:  # LM needs at least as many residuals as unknowns
             return q0
@@ -362,9 +331,9 @@ class KinematicSolver:
         J_out = np.zeros((n_res, n_x))
         for k in range(len(priors)):
             J_out[2 * n_a + k * n_x: 2 * n_a + (k + 1) * n_x] = np.diag(priors[k][1])
-        rp_dir = np.array([r.direction for r in pb.root_priors]).reshape(n_rp, 3)
-        rp_w = np.array([1.0 / r.std for r in pb.root_priors])
-        rp_t = np.array([r.target for r in pb.root_priors]) * rp_w
+        rp_dir = np.array([r.direction for r in root_priors]).reshape(n_rp, 3)
+        rp_w = np.array([1.0 / r.std for r in root_priors])
+        rp_t = np.array([r.target for r in root_priors]) * rp_w
         if n_rp:  # the root position is free dofs 0..2
             J_out[2 * n_a + n_pr: 2 * n_a + n_pr + n_rp, :3] = rp_dir * rp_w[:, None]
         lim_rows = 2 * n_a + n_pr + n_rp + np.arange(len(lim_idx))
@@ -373,7 +342,7 @@ class KinematicSolver:
 
         def fun(x: NDArray[np.float64]) -> NDArray[np.float64]:
             Qbuf[0, free] = x
-            proj = self.project(Qbuf[:1], a, pb.R0)[0]
+            proj = self.project(Qbuf[:1], a, R0)[0]
             r_out[: 2 * n_a] = proj.ravel() * inv_s - tgt
             if n_pr:
                 r_out[2 * n_a: 2 * n_a + n_pr] = (np.tile(x, len(priors)) - targets) * inv_std
@@ -388,16 +357,14 @@ class KinematicSolver:
         def jac(x: NDArray[np.float64]) -> NDArray[np.float64]:
             Qbuf[:, free] = x
             Qbuf[1:, free] += steps
-            proj = self.project(Qbuf, a, pb.R0).reshape(n_x + 1, 2 * n_a)
+            proj = self.project(Qbuf, a, R0).reshape(n_x + 1, 2 * n_a)
             J_out[: 2 * n_a] = ((proj[1:] - proj[0]) * (inv_s / eps)).T
             if len(lim_idx):
                 xl = x[lim_idx]
                 J_out[lim_rows, lim_idx] = ((xl > hi_l) | (xl < lo_l)) * inv_soft
             return J_out.copy()
 
-        # MINPACK's lmder through leastsq (least_squares wraps the same routine in
-        # more Python than these millisecond problems take to solve); tolerances are
-        # least_squares', the scaling is MINPACK's own (from the Jacobian's columns)
+        # MINPACK's lmder through leastsq (least_squares' tolerances, less Python)
         x_opt = leastsq(fun, x0, Dfun=jac, ftol=1e-8, xtol=1e-8, gtol=1e-8,
                         maxfev=max_nfev, full_output=True)[0]
         q = q0.copy()
@@ -423,11 +390,9 @@ class KinematicSolver:
                      turn_std: float | None = None) -> NDArray[np.float64]:
         """6-DOF fit: root position and pelvis orientation; the articulation is kept.
 
-        The blend's arms may be wrong, and a rigid fit would then twist the whole
-        body to shrink their error, so only torso anchors are used when at least
-        three are visible. A prior holds the fit near ``q``: 0.3 rad on the
-        orientation, ``position_std`` metres on the root (None: 1 / 3.3, about
-        0.3 m; ``inf``: none, the anchors' layout alone places the root).
+        Only torso anchors when at least three are visible (the blend's arms may be
+        wrong). A prior holds the fit near ``q``: 0.3 rad on the orientation (the
+        turn ``turn_std`` if given), ``position_std`` metres on the root (None: 1 / 3.3).
         """
         torso = np.isin(anchors.node, self._torso_nodes)
         if int(torso.sum()) >= 3:
@@ -443,8 +408,7 @@ class KinematicSolver:
         if turn_std is not None:
             inv[_TURN] = 1.0 / turn_std
         prior = [(qd[free].copy(), inv)]
-        out = self._solve(_Problem(qd, R0, free, anchors, prior, root_priors), max_nfev,
-                          limits=False)
+        out = self._solve(qd, R0, free, anchors, prior, root_priors, max_nfev, limits=False)
         return self._compose_root(out, R0)
 
     def solve_ik(
@@ -457,12 +421,8 @@ class KinematicSolver:
         root_priors: tuple[RootPrior, ...] = (),
         turn_std: float | None = None,
     ) -> NDArray[np.float64]:
-        """Upper-body IK on the anchors with priors towards ``q_blend`` and ``q_prev``.
-
-        Starts from the blend. Without a prior model only a
-        weak regularizer towards the blend remains (the ablation of the paper's
-        comparison against its predecessor).
-        """
+        """Upper-body IK on the anchors from ``q_blend``, with priors towards it and
+        ``q_prev`` (without a prior model, a weak one towards the blend)."""
         qd, R0 = self._with_delta_root(q_blend)
         free = self._free_ik
 
@@ -472,13 +432,12 @@ class KinematicSolver:
             return out
 
         blend = 1.0 / np.asarray(prior.blend) if prior is not None else np.full(len(free), 0.5)
-        if turn_std is not None:  # the trunk's turn held at the blend's as well: the two
-            blend = blend.copy()  # Gaussian priors on one target make one, inverse stds added
-            blend[_TRUNK_TURN] = np.hypot(blend[_TRUNK_TURN], 1.0 / turn_std)  # in quadrature
+        if turn_std is not None:  # a second prior on the trunk's turns, combined
+            blend = blend.copy()
+            blend[_TRUNK_TURN] = np.hypot(blend[_TRUNK_TURN], 1.0 / turn_std)
         priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = [
             (as_delta(q_blend), blend)]
         if prior is not None and q_prev is not None:
             priors.append((as_delta(q_prev), 1.0 / np.asarray(prior.previous)))
-        out = self._solve(_Problem(qd, R0, free, anchors, priors, root_priors), max_nfev,
-                          limits=True)
+        out = self._solve(qd, R0, free, anchors, priors, root_priors, max_nfev, limits=True)
         return self._compose_root(out, R0)

@@ -1,17 +1,10 @@
 """Finding the shirt: chrominance-histogram uniformity search (paper §4).
 
-The shirt is far more colorful than most of a scene, so its local chrominance
-histogram is nearly uniform. For every window of side ``s`` centred on a grid of
-stride 6 px, at six scales, the 100-bin histogram of ``(r, g) / (r + g + b)``
-(10 x 10 bins) gives the uniformity ``u = sum_i min(h_i, tau)`` with ``tau = 0.1``.
-The shirt's centre and scale are the average of all windows weighted by
-``exp(-(u - u_max)^2 / (u_max / 10)^2)``, which is steadier than the arg-max.
-
-Histograms are normalized by the window area, so pixels excluded by the
-background mask or too dark to have a chrominance count as nothing and windows
-much larger than the shirt lose uniformity. Everything runs in one numba pass:
-per-cell histograms on the stride grid, their integral, and the window sums.
-:class:`BackgroundMask` wraps OpenCV's MOG2 subtractor to provide that mask.
+For windows on a 6 px grid at six scales, the 100-bin histogram of ``(r, g) /
+(r + g + b)``, normalized by the window's area, gives ``u = sum_i min(h_i, tau)``;
+the shirt is the average of the windows near the best one, weighted by
+``exp(-(u - u_max)^2 / (u_max / 10)^2)``. :class:`BackgroundMask` wraps OpenCV's
+MOG2 for the mask.
 """
 
 from __future__ import annotations
@@ -206,35 +199,27 @@ class ShirtLocator:
         self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
         region: tuple[int, int, int, int] | None = None,
     ) -> ShirtLocation:
-        """Centre and scale of the most colorful region (the weighted average of §4).
-
-        ``region`` ``(x0, y0, x1, y1)`` (image pixels; a tracker passes the
-        neighbourhood of the shirt's last position) limits the search to the
-        windows inside it, on the same cell grid as the whole-frame search; when
-        no shirt is found there the whole frame is searched.
-        """
+        """Centre and scale of the most colorful region (the weighted average of §4),
+        searched first within ``region`` ``(x0, y0, x1, y1)`` (image pixels) if given."""
         if region is not None:
             st = self.options.stride
             h, w = image.shape[:2]
             x0, y0 = max(0, region[0] // st * st), max(0, region[1] // st * st)
             x1, y1 = min(w, region[2]), min(h, region[3])
             if x1 - x0 > 2 * st and y1 - y0 > 2 * st:
-                sub_mask = None if mask is None else mask[y0:y1, x0:x1]
-                loc = self._locate(image[y0:y1, x0:x1], sub_mask, h)
+                sub, sub_mask = image[y0:y1, x0:x1], None if mask is None else mask[y0:y1, x0:x1]
+                loc = self._average(self.uniformity_maps(sub, sub_mask, h), sub.shape)
                 if loc.found:
                     return ShirtLocation(loc.x + x0, loc.y + y0, loc.scale, loc.uniformity,
                                          True)
-        return self._locate(image, mask, image.shape[0])
+        return self._average(self.uniformity_maps(image, mask), image.shape)
 
     def candidates(self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None = None,
                    count: int = 3) -> list[ShirtLocation]:
-        """Up to ``count`` shirt-like regions of the whole frame, best first, each
-        found as :meth:`locate` finds the best after the windows overlapping the
-        regions before it are left out (only those found: ``uniformity`` at least
-        ``min_uniformity``). A start with the player in view has no background
-        mask: a poster or a fruit bowl can be more colorful than the shirt, and
-        the tracker judges the candidates in 3-D and by their classification."""
-        maps = self.uniformity_maps(image, mask, image.shape[0])
+        """Up to ``count`` shirt-like regions of the whole frame, best first, each found
+        as :meth:`locate` finds the best once the windows overlapping the regions
+        before it are left out."""
+        maps = self.uniformity_maps(image, mask)
         out: list[ShirtLocation] = []
         for _ in range(count):
             loc = self._average(maps, image.shape)
@@ -251,10 +236,6 @@ class ShirtLocator:
                   & (np.abs((ys + 0.5 * s) * st - loc.y) < reach)] = 0.0
         return out
 
-    def _locate(self, image: NDArray[np.uint8], mask: NDArray[np.bool_] | None,
-                frame_height: int) -> ShirtLocation:
-        return self._average(self.uniformity_maps(image, mask, frame_height), image.shape)
-
     def _average(self, maps: list[tuple[int, NDArray[np.float32]]],
                  shape: tuple[int, ...]) -> ShirtLocation:
         """The weighted average of the windows around the best one of ``maps``."""
@@ -264,9 +245,7 @@ class ShirtLocator:
         if u_max <= 0.0:
             return ShirtLocation(shape[1] / 2, shape[0] / 2, 0.0, 0.0, False)
         sigma = 0.1 * u_max
-        # the best window: the average is taken over the windows overlapping it only,
-        # so that a second colorful region elsewhere (a poster, a fruit bowl, clothes
-        # on a rail) cannot pull the centre between the two
+        # only the windows overlapping the best one: another colorful region cannot pull
         bs, bu, _ = max(maxima, key=lambda m: m[2])
         by, bx = np.unravel_index(int(np.argmax(bu)), bu.shape)
         best_c = ((bx + 0.5 * bs) * o.stride, (by + 0.5 * bs) * o.stride)
@@ -299,31 +278,20 @@ class ShirtLocator:
 
 
 class BackgroundMask:
-    """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution.
-
-    ``warmup`` frames are needed before the mask is trusted; :meth:`apply` returns
-    None until then (callers then use no mask), and also when the mask is almost
-    empty, as happens when the person stands still for long.
-    """
+    """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution;
+    :meth:`apply` gives None during the ``warmup`` frames and for an almost empty mask."""
 
     def __init__(
         self, downscale: int = 2, history: int = 500, warmup: int = 10, min_fraction: float = 0.01
     ) -> None:
         self.downscale = max(1, int(downscale))
-        self.history = history
         self.warmup = warmup
         self.min_fraction = min_fraction
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the learned background."""
-        self._sub = cv2.createBackgroundSubtractorMOG2(
-            history=self.history, varThreshold=16, detectShadows=False
-        )
+        self._sub = cv2.createBackgroundSubtractorMOG2(history=history, varThreshold=16,
+                                                       detectShadows=False)
         self._frames = 0
         self.raw: NDArray[np.bool_] | None = None
-        """The last frame's undilated foreground at the model's resolution (None
-        during the warm-up), also when :meth:`apply` returned None."""
+        """The last frame's undilated foreground at the model's resolution."""
 
     def moving(self, box: tuple[int, int, int, int]) -> float | None:
         """Share of the last frame's pixels inside ``box`` (full-resolution px) that

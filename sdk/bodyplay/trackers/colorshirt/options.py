@@ -58,11 +58,8 @@ class ColorShirtOptions:
       (``floor_offset``, ``floor_std``, m); ``depth_accel``, ``shirt_depth_std``,
       ``body_scale_std``, ``depth_pin_std``: the one-camera root-depth filter
       (:class:`.depth.RootDepthFilter`) and how tightly the IK holds its depth;
-      ``turn_std`` (rad): how tightly a one-camera rig's fits at the filter's depth
-      hold the trunk's turn about the vertical at the database blend's (0, the
-      default: as loosely as the other rotations, 0.3 rad); one camera sees that
-      turn only to second order (the ninja game, whose player faces the camera,
-      sets 0.1; docs/colorshirt.md).
+      ``turn_std`` (rad): how tightly a one-camera rig's fits hold the trunk's turn
+      about the vertical at the blend's (0: as loosely as the other rotations).
     * ``head_cue``: the head above the collar anchors the head joint
       (``head_offset``, ``head_std``, m).
     * ``arm_search``: each arm chosen from ``arm_library`` arms by a truncated

@@ -1,13 +1,9 @@
 """Placing database poses in the world: the step between retrieval and the 6-DOF fit.
 
-Database entries are stored relative to a canonical camera (:func:`canonical_camera`)
-together with where their root falls in the normalized 40x40 map and how deep it
-is. A camera's query tells where the shirt is in that camera's image and how large:
-that fixes each entry's root in the world (the ray through the root, at the depth
-that makes the shirt as large as observed) and its orientation (same relation to
-the camera as to the canonical one). With several cameras the root is triangulated
-instead: the point nearest to every camera's ray through where its own blend puts
-the root (the shirt's apparent size is a guess of depth; a second camera sees it).
+Entries are stored relative to a canonical camera with their root's place and depth
+in the normalized map; a camera's query puts the root on its ray at the depth that
+makes the shirt as large as observed, turned as to the canonical camera. With
+several cameras the root's depth is triangulated instead.
 """
 
 from __future__ import annotations
@@ -17,11 +13,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
 from bodyplay.capture.camera import Camera
-from bodyplay.trackers.colorshirt.database import (
-    BlendedPose,
-    PoseDatabase,
-    canonical_camera,
-)
+from bodyplay.trackers.colorshirt.database import BlendedPose, PoseDatabase, canonical_camera
 from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["DatabasePlacement"]
@@ -42,12 +34,8 @@ class DatabasePlacement:
     def place_entries(self, view: CameraView, pose: NDArray[np.float64],
                       root_crop: NDArray[np.float64], root_depth: NDArray[np.float64],
                       crop_scale: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Place database poses (C, D), relative to the canonical camera, in the world.
-
-        The root goes where the entry's root falls in ``view``'s normalized query, at
-        the depth that makes the shirt as large as observed; the orientation keeps
-        its relation to the camera.
-        """
+        """Place database poses (C, D), relative to the canonical camera, in the world
+        through ``view`` (see the module docstring)."""
         cam = self.cameras[view.index]
         s_img = view.query_scale * view.window.scale  # query px per image px
         uv = view.window.to_image((root_crop - view.query_offset) / view.query_scale)
@@ -63,17 +51,10 @@ class DatabasePlacement:
 
     def place(self, view: CameraView, others: list[CameraView] | None = None
               ) -> NDArray[np.float64]:
-        """Blend ``view``'s neighbours and place the blend in the world through its camera.
-
-        With ``others`` (the other cameras' views of the same frame) the root is
-        triangulated: the point nearest to the rays through where each view's own
-        blend puts the root. The leading camera alone places the root at the depth
-        where the blend's shirt looks as large as observed, which a bow or a lean
-        (the shirt foreshortened) reads as far: on the validation set's bow clip the
-        blend stood 1.2 m behind the player, projected outside the second camera's
-        crop, and the fit then saw the shirt in one camera only. The triangulated
-        root is kept when the rays pass within ``_RAY_GAP`` of it, in front of every
-        camera; otherwise the leading camera's placement stands.
+        """Blend ``view``'s neighbours and place the blend in the world through its camera;
+        with ``others`` (the other cameras' views) the root moves along the ray to
+        the depth where every view's ray through its own blend's root meets (within
+        ``_RAY_GAP``), which a bow or a lean cannot fool.
         """
         b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
         q = self.place_entries(view, b.pose[None], b.root_crop[None],

@@ -1,21 +1,11 @@
 """The room behind the player, learned from what the player uncovers (beyond the paper).
 
-The paper masks the classification with a background model of the empty room. A
-player who starts in view never shows the empty room, and an adaptive subtractor
-(MOG2) absorbs clutter and a player standing still alike. :class:`RoomPlate` learns
-the room instead from where the player is *not*: every pixel outside the dilated
-silhouette of the pose just reported (rendered from the body mesh) that stayed
-still over the last frames follows a per-pixel running mean, and after a few such
-frames the pixel is *known*. A known pixel that matches the plate is room; every
-other pixel (unknown, or different from the plate) may be the player.
-
-So clutter in shirt colours beside the player (a poster, clothes on a rail, fruit)
-leaves the classification as soon as the player has been seen next to it, and the
-pixels the player covers are never learned, however long they stand still. Frames
-before the first pose (an empty-room start) teach every still pixel of a camera
-that sees no shirt, but a region that may be a player standing still (``ambiguous``)
-only once it has changed. A change of light scales the plate by one gain per channel,
-measured on known pixels away from the player.
+A player who starts in view never shows the empty room, and MOG2 absorbs clutter
+and a still player alike. :class:`RoomPlate` learns the room from where the player
+is *not*: every pixel outside the dilated silhouette of the pose just reported that
+stayed still follows a running mean and after a few frames is *known*; a known
+pixel that matches the plate is room, every other pixel may be the player. A change
+of light scales the plate by one gain per channel.
 """
 
 from __future__ import annotations
@@ -30,9 +20,7 @@ __all__ = ["RoomPlate", "column_median"]
 
 def column_median(x: NDArray[np.floating]) -> NDArray[np.floating]:
     """``np.median(x, axis=0)`` of an (N, C) array with N >= 1 and no NaN, the same
-    values (the two middle elements averaged in ``x``'s dtype), several times faster:
-    one partition of the contiguous transpose at the upper middle; the lower middle
-    is the largest element left of it."""
+    values, several times faster (one partition of the contiguous transpose)."""
     n = x.shape[0]
     h = n // 2
     part = np.partition(np.ascontiguousarray(x.T), h, axis=1)
@@ -45,8 +33,7 @@ def column_median(x: NDArray[np.floating]) -> NDArray[np.floating]:
 def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.float32],
            learn: NDArray[np.bool_], rate: np.float32) -> None:  # pragma: no cover - compiled
     """In place, where ``learn``: the running mean moves towards ``f`` by
-    ``max(1 / (count + 1), rate)`` and the count grows (at most 255); float32 throughout,
-    operation by operation as numpy would."""
+    ``max(1 / (count + 1), rate)`` and the count grows (at most 255)."""
     h, w, c = mean.shape
     one = np.float32(1.0)
     for y in range(h):
@@ -68,10 +55,9 @@ def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.fl
 def _stillness(f: NDArray[np.float32], prev: NDArray[np.float32], run: NDArray[np.uint8],
                count: NDArray[np.uint8], still: np.float32, known_frames: int
                ) -> tuple[NDArray[np.bool_], NDArray[np.uint8], int, int]:  # pragma: no cover
-    """Per pixel whether its summed R + G + B change from ``prev`` is under ``still``
-    (float32, the channels summed in order, as :func:`cv2.transform` did), the
-    frames in a row it has been still (at most 255), and how many known pixels
-    (``count`` >= ``known_frames``) there are and how many of them moved."""
+    """Per pixel whether its summed R + G + B change from ``prev`` is under ``still``,
+    the frames in a row it has been still (at most 255), and how many known pixels
+    there are and how many of them moved."""
     h, w = run.shape
     is_still = np.empty((h, w), np.bool_)
     new_run = np.empty((h, w), np.uint8)
@@ -97,7 +83,7 @@ def _room(small: NDArray[np.float32], mean: NDArray[np.float32], count: NDArray[
           known_frames: int, threshold: np.float32, alike: NDArray[np.bool_], use_alike: bool
           ) -> NDArray[np.uint8]:  # pragma: no cover - compiled
     """1 where a known pixel's summed R + G + B difference from the plate is at most
-    ``threshold`` (float32, summed in order), or an unknown one is seen alike."""
+    ``threshold``, or an unknown one is seen alike."""
     h, w = count.shape
     out = np.zeros((h, w), np.uint8)
     for y in range(h):
@@ -115,15 +101,11 @@ def _room(small: NDArray[np.float32], mean: NDArray[np.float32], count: NDArray[
 class RoomPlate:
     """One camera's plate of the room at reduced resolution (see the module docstring).
 
-    Per frame: :meth:`start` with the reduced image, :meth:`foreground` for the mask,
-    then :meth:`learn` with the player's silhouette (or None with ``everywhere``
-    before the first pose). ``still`` is the summed R + G + B change from the last
-    frame under which a pixel counts as still; ``still_frames`` how many frames in a
-    row it must be still to be learned; ``known_frames`` how many learned frames make
-    it known; ``rate`` the slowest weight of a new frame in a pixel's running mean;
-    ``threshold`` the summed R + G + B difference from the plate that counts as
-    foreground in a room at least as bright as ``contrast_level`` (dimmer rooms
-    shrink it in proportion, down to 30%).
+    Per frame: :meth:`start`, :meth:`foreground`, then :meth:`learn`. A pixel is
+    still under a summed R + G + B change of ``still``, learned after
+    ``still_frames`` still frames in a row, known after ``known_frames`` learned
+    ones; ``rate`` is the slowest weight of a new frame; ``threshold`` and
+    ``contrast_level`` as :class:`.floor.BackgroundPlate`'s.
     """
 
     def __init__(self, still: float = 30.0, still_frames: int = 3, known_frames: int = 4,
@@ -135,10 +117,6 @@ class RoomPlate:
         self.rate = float(rate)
         self.threshold = float(threshold)
         self.contrast_level = float(contrast_level)
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the room."""
         self._mean: NDArray[np.float32] | None = None
         self._count: NDArray[np.uint8] | None = None
         self._run: NDArray[np.uint8] | None = None
@@ -148,11 +126,9 @@ class RoomPlate:
         self._moved: NDArray[np.bool_] | None = None
         """Pixels seen to change (not with the light) since the plate began."""
         self._away: NDArray[np.bool_] | None = None
-        """Pixels away from the player at the last :meth:`learn` (the light's gain is
-        measured there)."""
+        """Pixels away from the player at the last :meth:`learn` (the light's gain)."""
         self._seen_alike: NDArray[np.bool_] | None = None
-        """This frame's pixels that another camera shows as the same room
-        (:class:`.crossview.CrossView`)."""
+        """This frame's pixels that another camera shows as the same room."""
 
     @property
     def known(self) -> NDArray[np.bool_] | None:
@@ -175,11 +151,8 @@ class RoomPlate:
     def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
               seen_alike: NDArray[np.bool_] | None = None) -> None:
         """A new frame at the plate's resolution (RGB); the plate follows the light.
-
-        ``seen_alike``: its pixels that another camera shows as the same room
-        (:class:`.crossview.CrossView`); they count as room this frame where the
-        plate does not know the room (where it does, its own verdict stands).
-        """
+        ``seen_alike``: pixels another camera shows as the same room, room this
+        frame where the plate does not know it."""
         self._seen_alike = seen_alike
         f = np.asarray(small, np.float32)
         if self._mean is None or self._mean.shape != f.shape:
@@ -214,8 +187,6 @@ class RoomPlate:
             return None if self._seen_alike is None else ~self._seen_alike
         level = float(np.sum(cv2.mean(self._mean)[:3]))
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
-        # known pixels alike the plate, and the other camera's word where the plate
-        # has none
         alike = self._seen_alike
         assert self._count is not None
         room = _room(self._small, self._mean, self._count, self.known_frames,
@@ -226,13 +197,8 @@ class RoomPlate:
     def learn(self, person: NDArray[np.bool_] | None, everywhere: bool = False,
               ambiguous: NDArray[np.bool_] | None = None) -> None:
         """Learn this frame's still pixels outside ``person`` (plate resolution; None:
-        no pose this frame, so nothing is learned unless ``everywhere``, as before the
-        first pose in a camera that sees no shirt).
-
-        ``ambiguous``: pixels that may be a player standing still (a region that
-        fits a shirt but never moved); they are learned only once the plate has
-        seen them change: a still player is never learned as the room.
-        """
+        no pose, nothing is learned unless ``everywhere``). ``ambiguous`` pixels (maybe
+        a still player) are learned only once the plate has seen them change."""
         f, prev = self._small, self._prev
         if f is None or prev is None or self._mean is None:
             return
@@ -242,9 +208,7 @@ class RoomPlate:
             self._run, self._count, np.float32(self.still), self.known_frames)
         self._prev = f
         if moving / known < 0.5 if known else True:
-            # what moves is not the room: a pixel learned while the player stood still
-            # (or under a wrong pose) is forgotten as soon as it moves; a change of
-            # most of the room at once is the light, not motion
+            # a pixel that moves is forgotten (most of the room at once: the light)
             self._count[~still] = 0
             self._moved |= ~still
         if person is None and not everywhere:

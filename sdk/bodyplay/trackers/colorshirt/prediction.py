@@ -1,13 +1,5 @@
-"""Predicted id maps: the generic mesh rendered in a camera's crop, and what follows.
-
-The tracker renders its current pose estimate in each camera's working crop to get
-(a) patch anchors for the 6-DOF and IK fits (each visible patch's centroid, back-
-projected at its mean depth and attached to the patch's bone), (b) the pose prior of
-the refined classification (distance from each pixel to the nearest predicted
-pixel of each color, paper step 3) together with which of a color's two patches a
-pixel belongs to, and (c) the id map of the final pose from which the white
-balance is refitted (step 5).
-"""
+"""Predicted id maps: the generic mesh rendered in a camera's crop (for the patch
+anchors, the pose-assisted reclassification and the white balance's refit)."""
 
 from __future__ import annotations
 
@@ -121,8 +113,7 @@ class PoseRenderer:
         ]
 
     def vertices(self, q: NDArray[np.float64]) -> NDArray[np.float32]:
-        """Skinned mesh vertices (V, 3) at pose ``q`` (read-only: the last pose's are
-        kept, as a frame skins its final pose for the render, the gate and the plate)."""
+        """Skinned mesh vertices (V, 3) at pose ``q`` (read-only; the last pose's kept)."""
         last = self._last
         if last is not None and np.array_equal(last[0], q):
             return last[1]
@@ -164,11 +155,9 @@ class PoseRenderer:
 
     def patch_distances(self, rendered: RenderedPose, min_pixels: int
                         ) -> tuple[NDArray[np.float32], NDArray[np.uint8], NDArray[np.int64]]:
-        """The step-3 prior's distances: (M, H, W) distance from each pixel to the
-        nearest predicted pixel of each patch rendered on at least ``min_pixels``
-        pixels, with those patches' ids and colors (for
-        :meth:`.colors.ColorModel.classify_near`, which makes the penalty ``C d(r_b, k)``
-        of a color from its patches' distances; a color with none is ruled out)."""
+        """The step-3 prior's distances (for :meth:`.colors.ColorModel.classify_near`):
+        (M, H, W) distance to each patch rendered on at least ``min_pixels`` pixels,
+        with those patches' ids and colors."""
         patch = [p for k, pats in enumerate(self.color_patches) for p in pats
                  if rendered.stats.count[p] >= min_pixels]
         cidx = patch_color_index()

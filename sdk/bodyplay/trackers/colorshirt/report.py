@@ -1,11 +1,5 @@
-"""From a frame's fitted pose to the typed result games read: joints, states, extras.
-
-The fit gives a pose vector of the tracker's generic skeleton; what is reported is
-the joint set of DESIGN.md (upper body only: the legs are ``lost``), each joint
-``tracked`` when a patch of its bones (or, for the head, the head cue) was seen in
-some camera and ``inferred`` otherwise, with the head placed on the rays through
-the heads found (:func:`.cues.head_from_cue`).
-"""
+"""From a frame's fitted pose to the typed result games read: joints, states, extras
+(legs ``lost``; a joint ``tracked`` when a patch of its bones, or the head cue, was seen)."""
 
 from __future__ import annotations
 
@@ -42,13 +36,9 @@ def pose_result(frames: FrameSet, skeleton: Skeleton, q: NDArray[np.float64], se
                 views: Sequence[CameraView], cameras: Sequence[Camera],
                 heads: Sequence[tuple[int, HeadPoint]], options: ColorShirtOptions,
                 ms: float, extras: dict[str, object]) -> TrackResult:
-    """The :class:`TrackResult` of a frame fitted to pose ``q``.
-
-    ``seen`` holds the patch ids anchored in the fit (and ``HEAD_PATCH`` when the
-    head cue found the head), ``heads`` the heads found per camera; ``extras`` is
-    completed with the cameras used, the database mismatch, the classified crops
-    and the heads.
-    """
+    """The :class:`TrackResult` of a frame fitted to pose ``q``; ``seen``: the patch
+    ids anchored (``HEAD_PATCH`` for the head cue), ``heads``: the heads found;
+    ``extras`` gains the cameras used, the mismatch, the classified crops and heads."""
     joints = np.full((NUM_JOINTS, 3), np.nan)
     n_up = len(UPPER_BODY)
     joints[:n_up] = skeleton.joint_positions(q)[:n_up]

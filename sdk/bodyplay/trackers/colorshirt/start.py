@@ -1,16 +1,10 @@
 """Where a track starts: the combination of candidate regions, one (or none) per
-camera, that a fit explains best.
+camera, that a fit explains best (docs/colorshirt.md, "The start").
 
-With the player in view from the first frame there is no background mask: the most
-colourful region can be a poster or a fruit bowl, which neither moves nor fits an
-upright torso that both cameras see. So every combination of each camera's
-candidate regions is fitted, and a combination starts the track only if its fit is
-plausible and upright; among those the one that counts the most cameras, then (one
-camera) anchors the most of the shirt's patches, then fits best, wins. A region
-nothing was seen to move in is *held* instead (a player standing still looks just
-like it, and the room plates must not learn it), unless one camera's fit anchors
-enough of the shirt to be a player (:data:`STILL_PATCHES`). docs/colorshirt.md,
-"The start"; history section 2.
+A combination counts only if its fit is plausible and upright; the one with the
+most cameras, then (one camera) the most patches anchored, then the lowest
+residual wins. A region nothing moved in is *held* (maybe a still player), unless
+one camera's fit anchors enough of the shirt (:data:`STILL_PATCHES`).
 """
 
 from __future__ import annotations
@@ -27,23 +21,11 @@ from bodyplay.trackers.colorshirt.views import CameraView
 __all__ = ["STILL_PATCHES", "START_PATCHES", "StartChoice", "choose_start"]
 
 STILL_PATCHES = 8
-"""Patches of the shirt (of 20) that the fit of a start region nothing was seen to
-move in must anchor for the region to start the track anyway: a player standing
-still facing the camera shows about 10 (the ninja's virtual player waiting for its
-first gesture: 10), while clutter in shirt colours whose fit passes the upright test
-showed 2-5; those regions are held instead (not started on, and not learned by the
-room plates). With several cameras a still region is always held: a start from one
-camera's region is placed by the shirt's size alone."""
+"""Patches (of 20) a one-camera fit of a region nothing moved in must anchor to start
+the track anyway (a still player shows about 10, clutter 2-5)."""
 
 START_PATCHES = 6
-"""Patches of the shirt (of 20) that the fit of any start region must anchor with one
-camera (a still region: :data:`STILL_PATCHES`), and among the regions that qualify
-the one anchoring the most starts the track: how much of the shirt's layout a fit
-explains tells the player from shirt-coloured clutter, its residual does not (a fit
-of 3 patches reprojects as well as one of 10). A player facing the camera shows 7-11;
-in the clothes room under coloured light the first frames offered the shirt merged
-with the clothes rail behind it (not upright) and a moving piece of it (3-5
-patches, low residual), which started the track 1-2 m off."""
+"""Patches (of 20) a one-camera start must anchor (a player facing the camera: 7-11)."""
 
 StartFit = tuple[NDArray[np.float64], int, float]
 """A combination's fit: pose vector, patches anchored, mean relative residual."""

@@ -1,18 +1,8 @@
 """The color-shirt tracker: the paper's per-frame pipeline behind the Tracker protocol.
 
-Per frame set, for every camera (:mod:`.camerawork`): background mask (MOG2) ->
-histogram search for the shirt (:mod:`.locate`) -> crop -> white balance and
-Mahalanobis classification (T = 3, background-masked) -> if under 40% of the
-foreground is classified, retry every reference illumination -> 40x40 query map ->
-database lookup. Then, over all cameras: blend of the ten nearest poses of the
-best-matching camera, placed by a 6-DOF fit of its patch anchors -> pose-assisted
-reclassification (``C = 6 / s``, T = 5) -> IK on the patch centroids with priors
-towards the blend and the previous pose -> refit of ``W`` from the final pose's id
-map, stored as a new reference illumination when it is far from every stored one.
-
-When no camera sees a shirt (no colorful region, too few shirt colors, or no
-database pose resembling the classification) the result is :func:`lost_result`:
-the tracker never invents a pose.
+Each camera's image steps are :mod:`.camerawork`'s; here the cameras' views become
+one pose (blend, placement, 6-DOF fit, reclassification, IK), with the start, the
+body choice and the gates. A frame no camera sees a shirt in is :func:`lost_result`.
 """
 
 from __future__ import annotations
@@ -30,12 +20,7 @@ from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import TimestampError
-from bodyplay.trackers.base import (
-    TrackerCapabilities,
-    TrackResult,
-    check_frame_set,
-    lost_result,
-)
+from bodyplay.trackers.base import TrackerCapabilities, TrackResult, check_frame_set, lost_result
 from bodyplay.trackers.colorshirt.anchors import Observed, patch_anchors
 from bodyplay.trackers.colorshirt.armsearch import ArmSearches
 from bodyplay.trackers.colorshirt.bodyselect import (
@@ -60,7 +45,7 @@ from bodyplay.trackers.colorshirt.head import HeadPoint
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
-from bodyplay.trackers.colorshirt.prediction import PoseRenderer, RenderedPose
+from bodyplay.trackers.colorshirt.prediction import PoseRenderer
 from bodyplay.trackers.colorshirt.report import pose_result
 from bodyplay.trackers.colorshirt.start import StartFit, choose_start
 from bodyplay.trackers.colorshirt.views import CameraView
@@ -69,8 +54,7 @@ __all__ = ["ColorShirtTracker", "CameraView"]
 
 _PLACEMENT_STD = 1.0
 """Metres: how loosely a lone camera's first 6-DOF fit is held at the database
-placement's root (two cameras: 0.3), whose depth, the shirt's extent, reads ~20% far;
-without a hold an under-determined layout runs off (docs/colorshirt-history.md, 10)."""
+placement's root (two cameras: 0.3)."""
 
 
 def _torso_length(skeleton: Skeleton) -> float:
@@ -106,14 +90,11 @@ class ColorShirtTracker:
         self.color_model = color_model
         self.prior = prior
         self._work = CameraWork(options, cameras, database, color_model)
-        """The steps in each camera's image (locate, classify, query, W refit)."""
         self._presets = dict(bodies) if bodies else {}
-        self._bodies = dict(self._presets)
         """Candidate body presets (``body="auto"``); empty: the fixed ``skeleton``."""
-        self._reference = "m"
-        """The preset reported while the start-up frames choose (the database's)."""
-        self._fixed = self._bodies.get(self._reference) or BodyModel(
+        self._fixed = self._presets.get("m") or BodyModel(
             options.body, skeleton, PoseRenderer(skeleton), KinematicSolver(skeleton, cameras))
+        """The reference body (the database's), reported while the start-up chooses."""
         self._use(self._fixed)
         self.placement = DatabasePlacement(database, cameras)
         self._arms = ArmSearches(database.poses, options.arm_library)
@@ -125,34 +106,29 @@ class ColorShirtTracker:
         self._cams = self._work.new_states()
         self._prev: NDArray[np.float64] | None = None
         self._ever_reported = False
-        self._good = False
-        """Whether the last pose reported fitted well (``good_residual``)."""
         self._last_t: float | None = None
         self._gate = SpeedGate(self.options.max_speed, self.options.good_residual)
-        """The last pose reported and the last fit rejected (:mod:`.gates`)."""
         self._floor = FloorReading()
         o = self.options
         self._depth = RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std,
                                       o.body_scale_std)
-        """One camera's root depth (the feet and the body's size over time)."""
         self._lone: int | None = None
         """The camera that alone sees the shirt this frame (None: none or several)."""
         self._held: list[CameraView] = []
         """Start regions that fit a shirt but never moved (:meth:`_start_views`)."""
         self._alone: tuple[int, int] | None = None
-        """The camera that alone started the track and the frames since, while no
-        other camera agreed (None: no such track): the others keep searching."""
+        """The camera of several that alone tracks the player, and for how many frames."""
         self._selection: BodySelection | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
         self._reference = "m"
+        """The preset reported while the start-up frames choose."""
         if self._bodies:
             self._selection = BodySelection(
                 tuple(self._bodies), self.options.body_selection_frames)
             self._use(self._bodies.get(self._reference, next(iter(self._bodies.values()))))
         self.diagnostics: dict[str, object] = {}
-        """Intermediate results of the last frame (blended pose, observed centroids),
-        for training the IK priors and for debugging."""
+        """Intermediate results of the last frame (blend, observed centroids, ...)."""
 
     def _use(self, body: BodyModel) -> None:
         """Make ``body`` the skeleton, mesh and solver of the fits that follow."""
@@ -196,8 +172,7 @@ class ColorShirtTracker:
                     self._selection.previous.clear()
         else:
             views = [v for i in range(len(frames))
-                     if (v := self._work.view(i, self._cams[i], frames.t, confirmed))
-                     is not None]
+                     for v in self._work.views(i, self._cams[i], frames.t, confirmed, 1)]
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         root_height = (float(self._prev[1]) if self._prev is not None
@@ -206,72 +181,61 @@ class ColorShirtTracker:
         lone = self._lone = views[0].index if len(views) == 1 else None
         self._depth.begin(lone, frames.t, self._floor.depth, len(views))
         if not views:
-            self._prev = None
-            self._work.learn_room(self._cams, self.renderer, None, self._ever_reported,
-                                  self._held if starting else None)
-            return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
+            return self._lost(frames, t0, starting)
         fit: BodyFit | None
         self._start_arm_selection()
         if self._selection is not None and self._selection.chosen is None:
             fit = self._select_body(views)
         else:
             fit = self._estimate(views, self._prev)
-            if fit is not None and not self._plausible(fit.q, fit.views):
+            if not self._plausible(fit.q, fit.views):
                 fit = None
+        if fit is not None and self.options.adaptive_white_balance:
+            # also a fit the speed gate rejects: how W catches up after a light switch
+            for v, r in zip(fit.views, fit.rendered, strict=True):
+                self._work.refit_white_balance(self._cams[v.index], v, r)
         if fit is not None and not self._gate.admits(
                 frames.t, fit.q[:3], fit.residual,
                 confirmed=len(fit.views) > 1 or len(self.cameras) == 1):
-            # not reported, but the pixels where its render and the classification
-            # agree still tell the new illumination (after a light switch this is
-            # how W catches up)
             self.diagnostics["rejected"] = "speed"
-            if self.options.adaptive_white_balance:
-                for v, r in zip(fit.views, fit.rendered, strict=True):
-                    self._work.refit_white_balance(self._cams[v.index], v, r)
             fit = None
         self.diagnostics["body"] = self.body_name
         if self._selection is not None:
             self.diagnostics["body_residuals"] = self._selection.means()
         if fit is None:
-            self._prev = None
-            self._work.learn_room(self._cams, self.renderer, None, self._ever_reported,
-                                  self._held if starting else None)
-            return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
-        if self.options.adaptive_white_balance:
-            for v, r in zip(fit.views, fit.rendered, strict=True):
-                self._work.refit_white_balance(self._cams[v.index], v, r)
+            return self._lost(frames, t0, starting)
         self._prev = fit.q
         self._gate.report(frames.t, fit.q[:3])
         if (fresh or self._alone is not None or len(fit.views) == 1) and len(self.cameras) > 1:
             alone = 0 if fresh or self._alone is None else self._alone[1] + 1
             self._alone = None if len(fit.views) > 1 else (fit.views[0].index, alone)
         self._work.remember_shirt(self._cams, self.renderer, fit.q, frames.t)
-        self._good = fit.residual <= self.options.good_residual
+        good = fit.residual <= self.options.good_residual
         if self._unconfirmed():
-            # one camera alone in a rig of several (its start, or a track the others
-            # lost): its depth is the shirt's size alone (0.5-4.6 m off), so it is tracked
-            # but not reported until another camera agrees; no plate learns this frame
-            # (not around a pose that may be metres off, nor the others as an empty room)
+            # one camera alone in a rig of several: its depth is the shirt's size alone,
+            # so it is tracked, not reported, and no plate learns this frame
             self.diagnostics["rejected"] = "unconfirmed"
             self._ever_reported = True
             self._work.learn_room(self._cams, self.renderer, None, True)
             return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
-        self._work.learn_room(self._cams, self.renderer, fit.q if self._good else None,
+        self._work.learn_room(self._cams, self.renderer, fit.q if good else None,
                               self._ever_reported)
         self._ever_reported = True
         if lone is not None:
             self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
+    def _lost(self, frames: FrameSet, t0: float, starting: bool) -> TrackResult:
+        """No pose this frame; the room plates learn what they may without one."""
+        self._prev = None
+        self._work.learn_room(self._cams, self.renderer, None, self._ever_reported,
+                              self._held if starting else None)
+        return lost_result(frames.index, frames.t, 1000.0 * (time.perf_counter() - t0))
+
     # ---- start-up: where the player is ---------------------------------------------
     def _starting(self) -> bool:
-        """Whether the next frame starts a track: no camera tracking the shirt (none
-        reported yet, or lost for ``gate_time``), or with several cameras only the
-        one that started the track, no other agreeing yet
-        (``start_agreement_frames``). One camera too: its start was the
-        most colourful region, and with the player in view a still poster or fruit
-        bowl in shirt colours was that region, or (its fit rejected) MOG2 had
-        absorbed a player standing still by the next frame and nothing was found."""
+        """Whether the next frame starts a track: no camera tracks the shirt, or one
+        camera of several alone does (:meth:`_unconfirmed`)."""
         return self.options.start_candidates > 1 and (
             self._unconfirmed() or all(st.last_box is None for st in self._cams))
 
@@ -282,37 +246,10 @@ class ColorShirtTracker:
 
     def _start_views(self, frames: FrameSet, confirmed: bool
                      ) -> tuple[list[CameraView], bool]:
-        """The views a track starts from (``start_candidates``): of every
-        combination of one candidate region (or none) per camera, the one whose
-        fit with the body in use counts the most cameras, then fits best, among
-        those where MOG2 saw each region move, plausible (:meth:`_plausible`) and
-        upright (root within ``start_root_band`` of the standing pelvis height).
-
-        With the player in view from the first frame there is no background
-        mask: the most colorful region can be a poster or a fruit bowl, which
-        neither moves nor fits an upright torso that both cameras see. None
-        qualifies (the first frame: no motion seen yet): no pose, the next frame
-        tries again, and a camera whose candidates were all rejected lets the
-        room plate learn the frame as it does in an empty room, except a region
-        whose fit qualifies but which never moved (``_held``): a player standing
-        still looks just like that, and learning them as the empty room masked
-        them out for good (the ninja's colour-shirt game with one camera: the
-        player waited still for 6 frames, then was never found).
-
-        A camera that alone started the track (several cameras, none agreeing
-        yet) gives its tracked view, and every combination must hold it; every
-        other camera gives the region a track would find there (near where that
-        pose puts the shirt, else in the whole frame with the motion mask) and
-        its whole frame's candidates. Returns the views and whether they start
-        the track afresh (a hypothesis chose them, not the tracked view alone).
-
-        One camera also offers the region a track would find (the whole frame
-        searched with the motion and room masks: what moved, without the still
-        clutter around it), and its hypotheses are ranked by how much of the
-        shirt's layout their fit explains (patches anchored, at least
-        :data:`.start.START_PATCHES`), then by residual: in a room full of shirt
-        colours the unmasked regions merge the player with clutter behind them.
-        """
+        """The views a track starts from (:func:`.start.choose_start` over every
+        camera's candidate regions; a camera that alone tracks gives its tracked
+        view), and whether a hypothesis chose them afresh. Regions that fit a shirt
+        but never moved are held (``_held``): the room plates must not learn them."""
         o = self.options
         lone = None if self._alone is None else self._alone[0]
         cands = [self._work.views(i, self._cams[i], frames.t, confirmed,
@@ -340,8 +277,8 @@ class ColorShirtTracker:
         self._lone = saved
         self.diagnostics = {}
         chosen = tracked if start.views is None else start.views
-        for i, st in enumerate(self._cams):  # a camera whose candidates were all the
-            st.located = any(v.index == i for v in chosen)  # room: the plate learns it
+        for i, st in enumerate(self._cams):  # a camera without a chosen region: room
+            st.located = any(v.index == i for v in chosen)
         for v in chosen:
             if v.index != lone:
                 self._work.commit(self._cams[v.index], v, confirmed)
@@ -349,20 +286,10 @@ class ColorShirtTracker:
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> BodyFit | None:
-        """Start-up: fit every candidate preset, keep the one reprojecting best.
-
-        Each candidate works on its own copies of the views (the pose-assisted
-        reclassification rewrites them) with its own previous pose. Until the choice
-        is made the frame's result is the fit of the candidate with the lowest mean
-        residual so far (the reference body's before any frame could judge), and on
-        the deciding frame the chosen body's. Reporting the reference body until the
-        choice cost a third of a second of poor poses: a body too broad for the
-        player fits the shirt's outline by turning.
-
-        With one camera the presets are judged only on frames where the feet tell
-        the distance (``body_choice_max_stagger``), without the arm search (its arms
-        fit every size about equally); the reported pose is then refitted with it.
-        """
+        """Start-up: fit every candidate preset on its own copies of the views, keep
+        the one reprojecting best; until the choice the best so far is reported (the
+        reference body before any frame judged). With one camera only frames whose
+        feet tell the distance judge, without the arm search (then refitted with it)."""
         sel = self._selection
         assert sel is not None
         fits: dict[str, tuple[BodyFit, dict[str, object]]] = {}
@@ -371,10 +298,7 @@ class ColorShirtTracker:
         judging = not (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
                        and (stagger is None or stagger > limit))
         racing = list(sel.active)
-        # the reference (the fallback of a choice that cannot judge) is reported
-        # until a frame has judged the candidates; once one has, the best one in
-        # the race is, and the reference is fitted only while in the race (out of
-        # it, its fit was wasted: 1 of the 5 fits of the presets' second half)
+        # the reference is reported (so fitted) until a frame has judged the candidates
         extra = ([self._reference] if self._reference in self._bodies
                  and self._reference not in racing else [])
         if not judging:  # only the body reported is fitted (its fit is all the frame gives)
@@ -415,9 +339,7 @@ class ColorShirtTracker:
             return None
         fit, judged = fits[best]
         o = self.options
-        if judging and len(views) == 1 and o.arm_search:
-            # the candidates are judged without the arm search; the pose reported
-            # while they are is the best one has
+        if judging and len(views) == 1 and o.arm_search:  # report with the arm search
             self.diagnostics = {}
             report = self._estimate([copy.copy(v) for v in views], sel.previous.get(best),
                                     search_one=True, placed=placed)
@@ -428,9 +350,7 @@ class ColorShirtTracker:
 
     def _start_arm_selection(self) -> None:
         """Second start-up stage: once the preset is chosen, its arm-length variants
-        (:data:`ARM_SCALES`, about 40 ms each to build) are compared like the presets
-        were over ``arm_selection_frames`` frames with a pose. Built on the frame after
-        the choice, so that the result never depends on the machine's speed."""
+        are compared like the presets were, over ``arm_selection_frames`` frames."""
         n = self.options.arm_selection_frames
         sel = self._selection
         if n <= 0 or sel is None or sel.chosen is None or self._arm_stage_started:
@@ -463,18 +383,12 @@ class ColorShirtTracker:
                   ) -> BodyFit:
         """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
 
-        ``search_one``: whether a frame that one camera sees gets the arm search
-        (with its pull towards the blend's arms). The start-up's candidates are
-        judged without it: its arms fit every preset's size about equally, and the
-        choice got noisier. ``placed``: :meth:`_placed` of ``views`` if already known.
+        ``search_one``: whether a frame one camera sees gets the arm search;
+        ``placed``: :meth:`_placed` of ``views`` if already known.
         """
         o = self.options
         q_b = self._placed(views) if placed is None else placed.copy()
-        verts = self.renderer.vertices(q_b)
-        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
-        observed = [self._work.observed_by_color(self.renderer, v, r)
-                    for v, r in zip(views, rendered, strict=True)]
-        anchors = self._anchors(q_b, views, rendered, observed)
+        anchors, _ = self._anchors(q_b, views, refine=False)
         q_b, root_priors = self._place_root(q_b, anchors)
         self.diagnostics["arms"] = []
         one = len(views) == 1
@@ -484,15 +398,7 @@ class ColorShirtTracker:
                 o.arm_tau, o.arm_temperature, o.arm_shortlist,
                 pull=o.arm_depth_pull if one else 0.0)
         self.diagnostics["q_blend"] = q_b
-        verts = self.renderer.vertices(q_b)
-        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
-        if o.pose_prior:
-            observed = [self._work.refine_classification(self.renderer, v, r)
-                        for v, r in zip(views, rendered, strict=True)]
-        else:
-            observed = [self._work.observed_by_color(self.renderer, v, r)
-                        for v, r in zip(views, rendered, strict=True)]
-        anchors = self._anchors(q_b, views, rendered, observed)
+        anchors, observed = self._anchors(q_b, views, refine=o.pose_prior)
         shirt_only = anchors
         heads, found = head_anchors(self.skeleton, q_b, self.cameras, self._cams, views, o)
         anchors = join_anchors(anchors, heads)
@@ -507,15 +413,11 @@ class ColorShirtTracker:
                                      turn_std=self._turn_std())
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
         self.diagnostics["anchors"] = anchors
-        # the residual that chooses the body: with two cameras, the last anchors with
-        # the heads found (triangulated, they tell the neck's length); one camera
-        # cannot place a head in depth, so there the shirt's first anchors alone
+        # the residual that judges the body: one camera cannot place a head in depth
         judged = anchors if len(views) > 1 else shirt_only
         size_px = np.array([size[int(c)] for c in judged.camera], dtype=np.float64)
         resid = reprojection_residual(self.solver, q, judged, size_px)
         self.diagnostics["residual"] = resid
-        # the final pose's render (BodyFit.rendered, on first use): the white balance
-        # is refitted where it agrees
         return BodyFit(q, {int(p) for p in anchors.patch}, resid, views, self.renderer,
                     self.cameras)
 
@@ -524,23 +426,15 @@ class ColorShirtTracker:
         """6-DOF fit of the placed blend; with one camera, the root moved along its ray
         to the depth filter's estimate, and the IK's prior on the root's depth.
 
-        With one camera a first fit, held only loosely (:data:`_PLACEMENT_STD`),
-        reads the depth at which the layout of the torso's patch anchors projects
-        as large as the shirt looks: the filter's shirt reading
-        (``diagnostics["shirt_depth"]``, scaled to the reference body's size).
-        The IK's prior holds the root at the filter's depth, with
-        ``depth_pin_std`` once the feet told it, else with the filter's std; the
-        blend is fitted again at that depth (at another depth the fit leans the
-        torso to make up for a wrong size). Elsewhere the fit is held at 0.3 m.
-        A rig of several cameras keeps the code before these rules exactly (its
-        lone views: the IK from the fit's own depth with the filter's as a prior;
-        the hold 3.3 per metre, not 1 / 0.3: a 1% change of that weight moved
-        single two-camera clips by up to 11 cm; docs/colorshirt-history.md, 10).
+        A loosely held first fit (:data:`_PLACEMENT_STD`) gives the filter its shirt
+        reading; a one-camera rig refits the blend at the filter's depth, pinned with
+        ``depth_pin_std`` once the feet told it. A lone view in a rig of several only
+        gets the filter's depth as the IK's prior.
         """
         placed = q
         index = self._lone
-        rig1 = len(self.cameras) == 1  # a lone view in a rig of several: as two cameras
-        near = 0.3 if rig1 else None  # a rig of several keeps 3.3/m exactly (see above)
+        rig1 = len(self.cameras) == 1
+        near = 0.3 if rig1 else None  # None: 3.3 per metre (not exactly 1 / 0.3)
         if index is None:
             return self.solver.solve_global(placed, anchors, position_std=near), ()
         q = self.solver.solve_global(placed, anchors,
@@ -571,28 +465,28 @@ class ColorShirtTracker:
         t = self.options.turn_std
         return t if len(self.cameras) == 1 and t > 0 else None
 
-    def _anchors(self, q: NDArray[np.float64], views: list[CameraView],
-                 rendered: list[RenderedPose], observed: list[Observed]) -> PatchAnchors:
-        """Anchors for the patches seen both in the render and in the image, all cameras."""
+    def _anchors(self, q: NDArray[np.float64], views: list[CameraView], refine: bool
+                 ) -> tuple[PatchAnchors, list[Observed]]:
+        """Render ``q`` in every view, match the classified patches to it (``refine``:
+        after the pose-assisted reclassification), and anchor those both show."""
+        verts = self.renderer.vertices(q)
+        rendered = [self.renderer.render(verts, self.cameras[v.index], v.window) for v in views]
+        observe = self._work.refine_classification if refine else self._work.observed_by_color
+        observed = [observe(self.renderer, v, r) for v, r in zip(views, rendered, strict=True)]
         return patch_anchors(self.renderer, self.solver, self.cameras, q, views, rendered,
-                             observed, self.prior.centroid, self.options)
+                             observed, self.prior.centroid, self.options), observed
 
     def _depth_scale(self) -> float:
-        """The reference body's torso length over the active body's: turns the active
-        body's depth reading into the reference body's (the filter's scale is the
-        player's size relative to the reference)."""
-        ref = self._presets.get("m")
-        return _torso_length(ref.skeleton if ref else self._fixed.skeleton) / _torso_length(
-            self.skeleton)
+        """The reference body's torso length over the active body's (the filter's
+        scale is the player's size relative to the reference)."""
+        return _torso_length(self._fixed.skeleton) / _torso_length(self.skeleton)
 
     def _result(self, frames: FrameSet, q: NDArray[np.float64], seen: set[int],
                 views: list[CameraView], t0: float) -> TrackResult:
         heads = cast(list[tuple[int, HeadPoint]], self.diagnostics.get("heads", []))
         depth_std = None
         if len(views) == 1 and "depth_post" in self.diagnostics:
-            # the root reported is the IK's, which may depart from the filter's depth (it
-            # is pinned there only once the feet told the depth): the departure counts
-            # as uncertainty beside the filter's own
+            # the IK's departure from the filter's depth counts as uncertainty too
             post, std = cast("tuple[float, float]", self.diagnostics["depth_post"])
             z = float(self.cameras[views[0].index].world_to_camera(q[:3])[2])
             depth_std = float(np.hypot(std, z - post))

@@ -1,13 +1,5 @@
-"""Training the IK priors on synthetic ground truth, as the paper trains on Vicon data.
-
-The paper's IK energy has three covariances, ``Sigma_c`` (centroid constraints),
-``Sigma_b`` (distance to the database blend) and ``Sigma_p`` (distance to the
-previous pose), "trained off-line on ground-truth data: for each term, replace q
-by the ground-truth pose and compute the covariance of the term over the
-sequence". Here the ground truth comes from the synthetic camera rendering motion
-clips (by default the built-in CMU clips, which the database also samples; keep
-evaluation clips apart). The result is a :class:`PriorModel` (diagonal).
-"""
+"""Training the IK priors (:class:`PriorModel`) on synthetic ground truth, as the paper
+trains them on Vicon data."""
 
 from __future__ import annotations
 
@@ -79,12 +71,7 @@ def collect_training_data(
 
 
 def train_prior_model(**kwargs: object) -> PriorModel:
-    """:func:`collect_training_data` then :meth:`PriorModel.fit`.
-
-    The previous-pose term is trained on ``truth(t) - estimate(t - 1)``: at run time
-    ``q_h`` is the tracker's own previous estimate, not the truth, so its
-    covariance must include the tracking error (trained on truth differences alone,
-    the prior holds on to past mistakes).
-    """
+    """:func:`collect_training_data` then :meth:`PriorModel.fit`, the previous-pose term
+    on ``truth(t) - estimate(t - 1)`` (at run time ``q_h`` is the tracker's own)."""
     truth, blend, est, cerr = collect_training_data(**kwargs)  # type: ignore[arg-type]
     return PriorModel.fit(truth, blend, cerr, previous=est)

@@ -1,9 +1,6 @@
-"""Per-camera state of the color-shirt tracker: what it remembers about each camera
-between frames (:class:`CameraState`), one camera's share of a frame
-(:class:`CameraView`: crop, classification, database query), the clean-up of a
-classification (:func:`clean_ids`) and the normalized database query
-(:func:`make_query`), and the per-camera white balance and classification
-(:func:`classify_camera`).
+"""One camera's state between frames (:class:`CameraState`) and share of a frame
+(:class:`CameraView`): its white balance and classification, the classification's
+clean-up and the normalized database query.
 """
 
 from __future__ import annotations
@@ -37,15 +34,14 @@ __all__ = ["CameraState", "CameraView", "WHITE_ID", "WHITE_PATCHES", "classify_c
 
 _MAX_NOISE_GROWTH = 2.5
 """The noise-aware classification is kept unless it finds this many times the pixels
-of the plain one (then background is creeping in)."""
+of the plain one (background creeping in)."""
 
 WHITE_ID = 1 + next(c.index for c in SHIRT_COLORS if c.name == "white")
 """The class id of the shirt's white (ids are color index + 1; 0 is unclassified)."""
 
 WHITE_PATCHES = np.isin(np.arange(NUM_PATCHES + 1),
                         [p.id for p in PATCHES if p.color == WHITE_ID - 1])
-"""Per patch id (0 = background): whether the patch is white (right shoulder cap,
-left flank), whose centroid constraints count with ``white_std_scale``."""
+"""Per patch id (0 = background): whether the patch is white."""
 
 _SLEEVE_IDS = np.array(sorted(
     1 + c.index for c in SHIRT_COLORS
@@ -62,22 +58,19 @@ class CameraState:
     references: ReferenceIlluminations = field(default_factory=ReferenceIlluminations)
     last_box: tuple[int, int, int, int] | None = None
     torso_box: tuple[int, int, int, int] | None = None
-    """Image box of the torso (its patches projected) in the last pose reported; it
-    stays foreground while ``last_box`` is held (a torso standing still fades from
-    the background model)."""
+    """Image box of the torso in the last pose reported (kept foreground)."""
     last_fraction: float | None = None
     floor: FloorWatch = field(default_factory=FloorWatch)
-    """The background plate and the feet on the floor (the one-camera depth cue)."""
+    """The background plate and the feet on the floor."""
     gate: tuple[int, int, int, int] | None = None
-    """Image box of the shirt of the last pose reported (its projected mesh), at
-    time ``gate_t``: the classification keeps only pixels near it."""
+    """Image box of the last reported pose's shirt, at time ``gate_t``."""
     gate_t: float = float("nan")
     room: RoomPlate = field(default_factory=RoomPlate)
-    """The room learned from what the player uncovers (masks the classification)."""
+    """The room learned from what the player uncovers."""
     located: bool = False
     """Whether the histogram search found a shirt in this camera this frame."""
     image: NDArray[np.uint8] | None = None
-    """This frame's image, undistorted (:meth:`.camerawork.CameraWork.prepare`)."""
+    """This frame's image, undistorted."""
     reduced: NDArray[np.uint8] | None = None
     """This frame's image at the background model's and the plates' resolution."""
 
@@ -139,28 +132,14 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
               sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
     """Keep the shirt-like blobs of a classification.
 
-    Speckle is opened away. Blobs are formed from the colored (non-white)
-    pixels, grown a little so a patch touches its neighbours. The largest blob
-    holding at least two shirt colors is the shirt; other blobs are kept when
-    they hold two colors and are either not far smaller than it (``blob_fraction``
-    of its area) or within ``attach_fraction`` of the shirt's extent of it: an arm
-    held beside the body is separated from the torso by its shoulder cap, and
-    where that cap is white (which is not a blob color) the arm is a small blob of
-    its own that must not be dropped; such a blob in two sleeve colors is also kept
-    wherever white joins it to the shirt (a hanging arm whose cap is wider than
-    the reach: at 12-15% of the shirt's area it came and went from frame to frame,
-    and the arm with it). Next to the shirt a one-colored blob is kept
-    only in a sleeve color (a forearm whose upper arm is hidden); in the torso's
-    colors it is more likely the face or a hand than a piece of shirt. A blob in
-    two sleeve colors (each at least 3% of it and 3 px) that lies over the shirt
-    (above its top, within its columns) is also kept within ``sleeve_attach`` (a
-    larger fraction of the shirt's extent, if given) of its raised upper arms
-    (the shirt's sleeve-colored pixels above the top of its torso colors): both
-    forearms raised together over the head form one such blob, which the head
-    separates from the shirt by a little more than ``attach_fraction``, and they
-    hang from the elbows; with no upper arm raised there are no forearms over the
-    head (sleeve-colored fruit on a shelf above a shoulder). White, which walls
-    and mortar also match, is kept only next to the kept blobs.
+    Blobs are the colored (non-white) pixels, opened and grown a little. The
+    largest blob of two shirt colors is the shirt; another two-colour blob is kept
+    when not far smaller (``blob_fraction`` of its area) or within
+    ``attach_fraction`` of the shirt's extent of it (an arm cut off by a white
+    shoulder cap), a one-colour one only in a sleeve colour; a sleeve-coloured blob
+    joined to the shirt through white is kept too, and one of two sleeve colours
+    over the shirt within ``sleeve_attach`` of its raised upper arms (forearms over
+    the head). White is kept only next to the kept blobs.
     """
     white = cv2.morphologyEx((ids == WHITE_ID).astype(np.uint8), cv2.MORPH_OPEN,
                              np.ones((2, 2), np.uint8))
@@ -197,11 +176,7 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
             two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
                 axis=1) >= 2
             candidate = (nearest <= sleeve_reach) & valid & two_sleeves & sleeve & over & ~keep
-            if candidate.any():
-                # forearms over the head hang from raised upper arms: the shirt's
-                # sleeve-colored pixels above its torso colors' top (the elbows are
-                # there); the blob must lie within reach of them, not merely of the
-                # torso (fruit on a shelf above a shoulder, arms down)
+            if candidate.any():  # within reach of the raised upper arms, not the torso
                 body = sel & (labels == main)
                 on_sleeve = np.isin(ids, _SLEEVE_IDS)
                 torso_rows = np.nonzero((body & ~on_sleeve).any(axis=1))[0]
@@ -253,9 +228,7 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
                     o: ColorShirtOptions) -> tuple[NDArray[np.float64], NDArray[np.uint8]]:
     """Step 1 for one camera: choose ``W`` (automatic, kept, or a stored reference
     illumination after a light change) and classify the crop; ``st`` remembers ``W``.
-
-    ``fg`` is the paper's "supposedly foreground" (the located window, masked);
-    ``noise_model`` is ``model`` widened for the noise ``W`` amplifies (or ``model``).
+    ``fg`` is the paper's "supposedly foreground" (the located window, masked).
     """
     ys, xs = np.nonzero(fg)
     if len(xs):  # the automatic search looks at the located window, mostly shirt
@@ -291,10 +264,7 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
                 W, cls = auto.W, cls2
         st.W = W
     st.last_fraction = cls.fraction_classified(fg)
-    if noise_model is not model:
-        # W was chosen with the plain model (a looser one would favour large gains);
-        # the classification itself allows for the noise W amplifies, unless that
-        # more than doubles what the plain model found: background creeping in
+    if noise_model is not model:  # W was chosen with the plain model
         wide = noise_model.classify(crop, W, o.threshold, mask)
         if np.count_nonzero(wide.ids) <= _MAX_NOISE_GROWTH * np.count_nonzero(cls.ids):
             cls = wide
@@ -303,13 +273,10 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
 
 def prior_penalty_slope(strength: float, shirt_scale: float, W: NDArray[np.float64],
                         gain_power: float) -> float:
-    """``C`` of the pose-assisted reclassification's penalty ``C d`` (per crop pixel).
-
-    The paper's ``C = strength / s`` (``s`` the shirt's size in the crop), times
-    ``g ** gain_power`` with ``g = max(1, |det W| ** (1/3))`` the overall gain the
-    white balance applies to the image. A strongly amplified image (``g`` about 1.7
-    in the ``dim`` preset, 1.03-1.1 under steady light) carries amplified sensor
-    noise, so its colors say less and the rendered pose should say more.
+    """``C`` of the pose-assisted reclassification's penalty ``C d`` (per crop pixel):
+    the paper's ``strength / s`` (``s`` the shirt's size in the crop) times
+    ``g ** gain_power``, ``g = max(1, |det W| ** (1/3))`` the white balance's gain
+    (an amplified image says less, so the pose says more).
     """
     gain = max(1.0, abs(float(np.linalg.det(W))) ** (1.0 / 3.0))
     return strength / max(shirt_scale, 1.0) * gain**gain_power

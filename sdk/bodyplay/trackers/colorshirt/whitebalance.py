@@ -1,17 +1,9 @@
 """White balance for the shirt: the 3x3 matrix ``W`` and the reference illuminations.
 
-``W`` maps observed camera RGB to the color model's RGB, ``W I ~ mu``. It is solved
-by least squares from per-color mean patch colors (paper §5.1: the paper writes the
-argmin with ``W`` applied to the model means but applies it to image pixels; we fit
-the direction it is used in), from user scribbles, from the final pose's id map
-(step 5), or, with no scribbles at all, by :func:`auto_white_balance`: a search
-over illuminant gains and a gray-world start scored by how many shirt colors the
-located region yields, then refined by refitting ``W`` from its own classification.
-
-:class:`ReferenceIlluminations` keeps the paper's set of previously seen ``W``:
-when under 40% of the foreground is classified every stored ``W`` is tried and the
-best kept, and a refitted ``W*`` is stored when it differs from every stored one by
-more than 0.5 in Frobenius norm.
+``W`` maps camera RGB to the model's, ``W I ~ mu``, by least squares from per-color
+means (paper §5.1) of scribbles, a classification or a rendered pose; without
+scribbles :func:`auto_white_balance` searches illuminant gains first.
+:class:`ReferenceIlluminations` is the paper's set of previously seen ``W``.
 """
 
 from __future__ import annotations
@@ -38,14 +30,10 @@ def fit_white_balance(
     ridge: float = 1e3,
     off_diagonal: float = 1.0,
 ) -> NDArray[np.float64]:
-    """Least-squares ``W = argmin sum_k w_k ||W o_k - mu_k||^2 + sum_ij r_ij (W - P)_ij^2``.
-
-    ``observed`` and ``target`` are (K, 3) mean colors (0..255). The ridge ``r`` pulls
-    towards ``prior`` ``P`` (identity when None), ``off_diagonal`` times harder on
-    the channel-mixing entries: it keeps ``W`` defined when fewer than three colors
-    are seen, and stops the mixing terms drifting when the visible colors are
-    all alike (e.g. only the warm torso colors). Rows are solved independently.
-    """
+    """Least-squares ``W = argmin sum_k w_k ||W o_k - mu_k||^2 + sum_ij r_ij (W - P)_ij^2``
+    for (K, 3) mean colors (0..255); the ridge pulls towards ``prior`` (identity when
+    None), ``off_diagonal`` times harder on the channel-mixing entries (which drift
+    when the visible colors are all alike). Rows are solved independently."""
     o = np.asarray(observed, dtype=np.float64).reshape(-1, 3)
     m = np.asarray(target, dtype=np.float64).reshape(-1, 3)
     if o.shape != m.shape:
@@ -85,13 +73,9 @@ def white_balance_from_ids(
     min_colors: int = 3,
     ridge_fraction: float = 0.0,
 ) -> NDArray[np.float64] | None:
-    """Refit ``W`` from an id map (a classification, a rendered pose or scribbles).
-
-    Each color with at least ``min_pixels`` pixels contributes its mean, weighted by
-    the square root of its count. Returns None when fewer than ``min_colors`` colors
-    are present (then keep the current ``W``). ``ridge_fraction`` > 0 pulls ``W``
-    towards ``prior`` with that fraction of the data's own weight (ten times harder
-    on the channel-mixing entries).
+    """Refit ``W`` from an id map: each color of at least ``min_pixels`` pixels gives
+    its mean, weighted by the root of its count (None under ``min_colors`` colors);
+    ``ridge_fraction`` > 0 pulls towards ``prior`` with that share of the data's weight.
     """
     means, counts = color_means(image, ids, min_pixels)
     sel = counts > 0
@@ -126,12 +110,8 @@ def white_balance_from_scribbles(
 
 
 def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None) -> float:
-    """How shirt-like a classification is: ``sum_k min(fraction_k, 0.1)`` over colors.
-
-    The cap (the uniformity measure of the histogram search) stops a ``W`` that
-    paints everything one color from scoring well; 1.0 means all ten colors each
-    cover a tenth of the pixels.
-    """
+    """How shirt-like a classification is: ``sum_k min(fraction_k, 0.1)`` over colors
+    (the cap stops a ``W`` that paints everything one color from scoring well)."""
     n = ids.size if n_pixels is None else n_pixels
     counts = np.bincount(ids.reshape(-1), minlength=NUM_COLORS + 1)[1:]
     return float(np.minimum(counts / max(n, 1), 0.1).sum())
@@ -174,14 +154,10 @@ def auto_white_balance(
     sample: int = 48,
     candidates: list[NDArray[np.float64]] | None = None,
 ) -> AutoWhiteBalance:
-    """Estimate ``W`` with no scribbles from an image of the (located) shirt region.
-
-    Tries a gray-world start and a grid of illuminant gains (von Kries diagonal
-    matrices at several exposures) on a ``sample``-pixel-wide thumbnail, keeps the
-    one with the best :func:`classification_score`, then alternates classifying
-    the full region and refitting the full 3x3 ``W`` from its color means. Extra
-    ``candidates`` (e.g. stored reference illuminations) join the search.
-    """
+    """Estimate ``W`` with no scribbles from an image of the (located) shirt region:
+    the best-scoring gray-world or illuminant-gain candidate (and ``candidates``) on a
+    ``sample``-pixel-wide thumbnail, then the full 3x3 ``W`` refitted from its own
+    classification up to ``refine_steps`` times."""
     import cv2
 
     h, w = image.shape[:2]
@@ -220,12 +196,9 @@ def auto_white_balance(
 
 @dataclass
 class ReferenceIlluminations:
-    """The set of reference white-balance matrices (paper §5.2 steps 1 and 5).
-
-    Mutable per-tracker state: :meth:`add` stores ``W*`` when it is farther than
-    ``min_distance`` (Frobenius) from every stored matrix; :meth:`best` re-classifies
-    with each stored matrix and returns the one classifying the most foreground.
-    """
+    """The reference white-balance matrices (paper §5.2): :meth:`add` stores ``W*`` when
+    farther than ``min_distance`` (Frobenius) from every stored one; :meth:`best` gives
+    the one classifying the most foreground."""
 
     min_distance: float = 0.5
     max_size: int = 32
