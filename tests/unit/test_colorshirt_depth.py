@@ -71,22 +71,6 @@ def test_depth_filter_restarts_from_the_feet_when_they_keep_disagreeing() -> Non
     assert f.depth() == pytest.approx(2.2, abs=0.05)
 
 
-def test_depth_filter_does_not_restart_from_feet_that_the_shirt_contradicts() -> None:
-    """Floor readings that keep disagreeing restart the depth only where the shirt's
-    size leaves them possible: "feet" 7.5 m away while the shirt reads the player
-    at 3 m (clothes piled on the floor beside the player, the plate after a lamp
-    switch) are left out for good; without the shirt's reading, or with one that
-    agrees, the feet win as before."""
-    for shirt, floor, expected in ((3.0, 7.5, 3.0), (None, 7.5, 7.5), (2.4, 2.4, 2.4)):
-        f = _standing()
-        for k in range(30, 55):  # 25 frames: more than max_rejects (15) in a row
-            t = k / 30
-            f.begin(0, t, floor)
-            f.posterior(shirt)
-            f.end(t, shirt)
-        assert f.depth() == pytest.approx(expected, abs=0.15), (shirt, floor)
-
-
 def test_depth_filter_learns_the_players_size_from_the_feet_and_then_holds_with_the_shirt(
 ) -> None:
     f = _standing(3.0, frames=90, scale=1.08)  # a player 8% larger than the reference

@@ -217,16 +217,6 @@ class RootDepthFilter:
         self.rejected = took["floor_rejected"]
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
-    def _shirt_agrees(self, floor: float, shirt: float | None) -> bool:
-        """Whether the shirt's reading (None: none) leaves the floor reading possible
-        (within ``gate`` variances): rejected floor readings restart only then."""
-        x, P = self._from_floor(floor)
-        if shirt is None or not (np.isfinite(shirt) and shirt > 0):
-            return True
-        xs, Ps = self._from_shirt(shirt)
-        y = float(x[0] - xs[0])
-        return y**2 <= self.gate * float(P[0, 0] + Ps[0, 0])
-
     def end(self, t: float, shirt: float | None) -> None:
         """Commit the reported fit's readings at ``t`` (see :meth:`posterior`)."""
         if self.camera is None:
@@ -248,8 +238,7 @@ class RootDepthFilter:
             self.rejects["floor"] = 0
         elif took["floor_rejected"]:
             self.rejects["floor"] += 1
-            if (self.rejects["floor"] >= self.max_rejects and self._floor is not None
-                    and self._shirt_agrees(self._floor, shirt)):
+            if self.rejects["floor"] >= self.max_rejects and self._floor is not None:
                 self._keep_body()
                 self._start(*self._from_floor(self._floor))
                 self.t_read = self.t_floor = t
