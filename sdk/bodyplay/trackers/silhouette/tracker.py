@@ -251,8 +251,7 @@ class SilhouetteTracker:
         if o.box_redo and o.box_guess and bg.dropped and not bg.reguessed:
             # the first guess was dropped (it took a treadmill for the figure): the box a
             # person standing here can fill is the guess now, resolved (once per start)
-            bg.guess_in(person_box(self._cam, win.ground, sil.foreground.shape, sil.scale,
-                                   o.box_guess, o.box_below, o.box_top), grabcut=False)
+            bg.guess_in(self._person_box(win.ground, sil), grabcut=False)
         if self._started is None:
             self._started = frames.t
             self._start_frame = self.background.frames
@@ -375,9 +374,7 @@ class SilhouetteTracker:
                 at = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
                                         sil.scale, self._shape_d)
                 if at is not None:
-                    self.background.guess_in(person_box(
-                        self._cam, at.ground, sil.foreground.shape, sil.scale, o.box_guess,
-                        o.box_below, o.box_top))
+                    self.background.guess_in(self._person_box(at.ground, sil))
         assert self._shape_d is not None
         d = self._shape_d
         if seen is not None and abs(seen.distance - d) <= o.restart_agree * d:
@@ -576,6 +573,13 @@ class SilhouetteTracker:
         return fitter.refine_reported(q, self.tree.bodies[body].offset[step.leaf], placed,
                                       step.shift, self._maps_now[fitter.level].cost,
                                       joints, pose, R_align, at)
+
+    def _person_box(self, ground: NDArray[np.float64], sil: Silhouette) -> NDArray[np.bool_]:
+        """Where a person standing at ``ground`` can be, in ``sil``'s working image
+        (the box a first guess is made again in: ``box_guess``, ``box_below``, ``box_top``)."""
+        o = self.options
+        return person_box(self._cam, ground, sil.foreground.shape, sil.scale, o.box_guess,
+                          o.box_below, o.box_top)
 
     def _absent(self, frames: FrameSet, sil: Silhouette, t0: float,
                 stages: dict[str, float]) -> TrackResult:
