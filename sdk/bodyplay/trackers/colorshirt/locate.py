@@ -75,6 +75,12 @@ def _chroma_bin_image(  # pragma: no cover - compiled
 ) -> NDArray[np.int16]:
     h, w = image.shape[0], image.shape[1]
     out = np.full((h, w), -1, np.int16)
+    # floor(n / s) of integers as floor((n + 0.5) / s) by a reciprocal: (n + 0.5) / s
+    # lies at least 0.5 / s from an integer, far beyond a float64 rounding (and no
+    # integer division per pixel)
+    inv = np.zeros(3 * 255 + 1)
+    for s in range(1, 3 * 255 + 1):
+        inv[s] = 1.0 / s
     for y in range(h):
         for x in range(w):
             if use_mask and not mask[y, x]:
@@ -83,10 +89,10 @@ def _chroma_bin_image(  # pragma: no cover - compiled
             g = np.int32(image[y, x, 1])
             b = np.int32(image[y, x, 2])
             s = r + g + b
-            if s < min_brightness:
+            if s < min_brightness or s == 0:
                 continue
-            br = int(r * BINS_PER_AXIS // s)
-            bg = int(g * BINS_PER_AXIS // s)
+            br = int((r * BINS_PER_AXIS + 0.5) * inv[s])
+            bg = int((g * BINS_PER_AXIS + 0.5) * inv[s])
             out[y, x] = min(br, BINS_PER_AXIS - 1) * BINS_PER_AXIS + min(bg, BINS_PER_AXIS - 1)
     return out
 
@@ -131,7 +137,10 @@ def _window_uniformity(  # pragma: no cover - compiled
         for x0 in range(nx):
             if not active[y0 + s // 2, x0 + s // 2]:
                 continue
-            acc = 0.0
+            # sum min(c, cap) as the counts under the cap plus the capped bins times
+            # the cap: integers, no float chain per bin
+            low = 0
+            capped = 0
             for b in range(NUM_BINS):
                 c = (
                     integ[y0 + s, x0 + s, b]
@@ -139,8 +148,11 @@ def _window_uniformity(  # pragma: no cover - compiled
                     - integ[y0 + s, x0, b]
                     + integ[y0, x0, b]
                 )
-                acc += min(float(c), cap)
-            u[y0, x0] = acc / area
+                if c < cap:
+                    low += c
+                else:
+                    capped += 1
+            u[y0, x0] = (float(low) + capped * cap) / area
     return u
 
 
