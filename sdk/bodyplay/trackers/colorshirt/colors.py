@@ -30,6 +30,43 @@ _RIDGE = 4.0  # added to every covariance diagonal (RGB units squared): keeps it
 
 
 @numba.njit(cache=True, nogil=True)
+def _balanced_row(image: NDArray[np.uint8], y: int, W: NDArray[np.float32],
+                  p0: NDArray[np.float32], p1: NDArray[np.float32],
+                  p2: NDArray[np.float32]) -> None:  # pragma: no cover - compiled
+    """Row ``y`` of ``image`` white-balanced by ``W``, into ``p0``, ``p1``, ``p2``."""
+    for x in range(image.shape[1]):
+        r = np.float32(image[y, x, 0])
+        g = np.float32(image[y, x, 1])
+        b = np.float32(image[y, x, 2])
+        p0[x] = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
+        p1[x] = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
+        p2[x] = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
+
+
+@numba.njit(cache=True, nogil=True)
+def _mahalanobis_row(p0: NDArray[np.float32], p1: NDArray[np.float32],
+                     p2: NDArray[np.float32], means: NDArray[np.float32],
+                     linv: NDArray[np.float32], c: int,
+                     out: NDArray[np.float32]) -> None:  # pragma: no cover - compiled
+    """Mahalanobis distance of a balanced row to color ``c`` (``linv`` is lower
+    triangular: ``z = L^-1 d``, the distance is ``||z||``)."""
+    m0, m1, m2 = means[c, 0], means[c, 1], means[c, 2]
+    l00, l10, l11 = linv[c, 0, 0], linv[c, 1, 0], linv[c, 1, 1]
+    l20, l21, l22 = linv[c, 2, 0], linv[c, 2, 1], linv[c, 2, 2]
+    for x in range(out.shape[0]):
+        d0 = p0[x] - m0
+        d1 = p1[x] - m1
+        d2 = p2[x] - m2
+        z0 = l00 * d0
+        z1 = l10 * d0 + l11 * d1
+        z2 = l20 * d0 + l21 * d1 + l22 * d2
+        out[x] = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+
+
+# Both kernels work a row at a time, color by color over the row's pixels (loops the
+# compiler vectorizes); every pixel gets the same operations in the same order as
+# one pixel at a time would, so the same values.
+@numba.njit(cache=True, nogil=True)
 def _classify_kernel(  # pragma: no cover - compiled
     image: NDArray[np.uint8],
     W: NDArray[np.float32],
@@ -45,35 +82,28 @@ def _classify_kernel(  # pragma: no cover - compiled
     k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
     best = np.full((h, w), np.inf, np.float32)
+    p0, p1, p2 = np.empty(w, np.float32), np.empty(w, np.float32), np.empty(w, np.float32)
+    dist = np.empty(w, np.float32)
+    bk = np.empty(w, np.int64)
     for y in range(h):
+        _balanced_row(image, y, W, p0, p1, p2)
+        bd = best[y]
+        bk[:] = -1
+        for c in range(k):
+            _mahalanobis_row(p0, p1, p2, means, linv, c, dist)
+            if use_penalty:
+                for x in range(w):
+                    dist[x] += penalty[y, x, c]
+            for x in range(w):
+                v = dist[x]
+                lower = v < bd[x]
+                bd[x] = v if lower else bd[x]
+                bk[x] = c if lower else bk[x]
         for x in range(w):
             if use_mask and not mask[y, x]:
-                continue
-            r = np.float32(image[y, x, 0])
-            g = np.float32(image[y, x, 1])
-            b = np.float32(image[y, x, 2])
-            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-            bd = np.float32(np.inf)
-            bk = -1
-            for c in range(k):
-                d0 = p0 - means[c, 0]
-                d1 = p1 - means[c, 1]
-                d2 = p2 - means[c, 2]
-                # linv is lower triangular: z = L^-1 d, ||z|| = Mahalanobis distance
-                z0 = linv[c, 0, 0] * d0
-                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-                if use_penalty:
-                    dist += penalty[y, x, c]
-                if dist < bd:
-                    bd = dist
-                    bk = c
-            best[y, x] = bd
-            if bd < threshold:
-                ids[y, x] = bk + 1
+                bd[x] = np.inf  # not classified
+            elif bd[x] < threshold:
+                ids[y, x] = bk[x] + 1
     return ids, best
 
 
@@ -99,44 +129,53 @@ def _classify_near_kernel(  # pragma: no cover - compiled
     k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
     owner = np.zeros((h, w), np.uint8)
-    best = np.empty(k, np.float32)
-    near = np.zeros(k, np.uint8)
-    seen = np.zeros(k, np.bool_)
+    best = np.empty((k, w), np.float32)
+    near = np.zeros((k, w), np.uint8)
+    seen = np.zeros(k, np.bool_)  # whether the color has a patch (the same on every pixel)
+    p0, p1, p2 = np.empty(w, np.float32), np.empty(w, np.float32), np.empty(w, np.float32)
+    dist = np.empty(w, np.float32)
+    bd = np.empty(w, np.float32)
+    bk = np.empty(w, np.int64)
     for y in range(h):
+        seen[:] = False
+        for j in range(dists.shape[0]):
+            c = color[j]
+            pj = patch[j]
+            if not seen[c]:  # the color's first patch
+                seen[c] = True
+                for x in range(w):
+                    best[c, x] = dists[j, y, x]
+                    near[c, x] = pj
+                continue
+            for x in range(w):  # a later one where it is strictly nearer
+                d = dists[j, y, x]
+                b = best[c, x]
+                nearer = d < b
+                best[c, x] = d if nearer else b
+                near[c, x] = pj if nearer else near[c, x]
+        _balanced_row(image, y, W, p0, p1, p2)
+        bd[:] = np.inf
+        bk[:] = -1
+        for c in range(k):  # as in _classify_kernel, the penalty made here
+            _mahalanobis_row(p0, p1, p2, means, linv, c, dist)
+            if seen[c]:
+                for x in range(w):
+                    dist[x] += strength * best[c, x]
+            else:
+                for x in range(w):
+                    dist[x] += far
+            for x in range(w):
+                v = dist[x]
+                lower = v < bd[x]
+                bd[x] = v if lower else bd[x]
+                bk[x] = c if lower else bk[x]
         for x in range(w):
             if use_mask and not mask[y, x]:
                 continue
-            seen[:] = False
-            for j in range(dists.shape[0]):
-                c = color[j]
-                d = dists[j, y, x]
-                if not seen[c] or d < best[c]:
-                    seen[c] = True
-                    best[c] = d
-                    near[c] = patch[j]
-            r = np.float32(image[y, x, 0])
-            g = np.float32(image[y, x, 1])
-            b = np.float32(image[y, x, 2])
-            p0 = W[0, 0] * r + W[0, 1] * g + W[0, 2] * b
-            p1 = W[1, 0] * r + W[1, 1] * g + W[1, 2] * b
-            p2 = W[2, 0] * r + W[2, 1] * g + W[2, 2] * b
-            bd = np.float32(np.inf)
-            bk = -1
-            for c in range(k):  # as in _classify_kernel, the penalty made here
-                d0 = p0 - means[c, 0]
-                d1 = p1 - means[c, 1]
-                d2 = p2 - means[c, 2]
-                z0 = linv[c, 0, 0] * d0
-                z1 = linv[c, 1, 0] * d0 + linv[c, 1, 1] * d1
-                z2 = linv[c, 2, 0] * d0 + linv[c, 2, 1] * d1 + linv[c, 2, 2] * d2
-                dist = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
-                dist += strength * best[c] if seen[c] else far
-                if dist < bd:
-                    bd = dist
-                    bk = c
-            if bd < threshold:
-                ids[y, x] = bk + 1
-                owner[y, x] = near[bk] if seen[bk] else 0
+            if bd[x] < threshold:
+                c = bk[x]
+                ids[y, x] = c + 1
+                owner[y, x] = near[c, x] if seen[c] else 0
     return ids, owner
 
 
