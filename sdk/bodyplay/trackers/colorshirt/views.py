@@ -163,7 +163,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
     sleeve_reach = int(sleeve_attach * extent)
-    if max(reach, sleeve_reach) > 0:
+    # the rules below only add blobs that are valid or in sleeve colours and not kept
+    # yet: without any (mostly the shirt alone) they are skipped
+    undecided = (valid | sleeve) & ~keep
+    if max(reach, sleeve_reach) > 0 and undecided[1:].any():
         # each blob's least chessboard distance (the square neighbourhood) to the shirt
         gap = cv2.distanceTransform((labels != main).astype(np.uint8), cv2.DIST_C, 3)
         nearest, bottom, left, right = _blob_reach(labels, sel, gap, n)
@@ -187,12 +190,13 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
                     arm_gap = cv2.distanceTransform((~arm).astype(np.uint8), cv2.DIST_C, 3)
                     from_arm = _blob_reach(labels, sel, arm_gap, n)[0]
                     keep |= candidate & (from_arm <= sleeve_reach)
-    # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
-    bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
-    _, bridged = cv2.connectedComponents(bridge, connectivity=8)
-    shirt = np.bincount(bridged[labels == main]).argmax()
-    joined = np.bincount(labels[(bridged == shirt) & sel], minlength=n) > 0
-    keep |= joined & valid & sleeve
+    if (valid & sleeve & ~keep).any():
+        # an arm in two sleeve colors joined to the shirt through white (its shoulder cap)
+        bridge = cv2.bitwise_or(grown, cv2.dilate(white, np.ones((3, 3), np.uint8)))
+        _, bridged = cv2.connectedComponents(bridge, connectivity=8)
+        shirt = np.bincount(bridged[labels == main]).argmax()
+        joined = np.bincount(labels[(bridged == shirt) & sel], minlength=n) > 0
+        keep |= joined & valid & sleeve
     kept = core * keep[labels].astype(np.uint8)
     r = max(2, int(0.05 * extent))
     near = cv2.dilate(kept, np.ones((2 * r + 1, 2 * r + 1), np.uint8))
