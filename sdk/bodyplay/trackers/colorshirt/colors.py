@@ -286,6 +286,16 @@ class ColorModel:
         if self.measurement_noise <= 0:
             return self._linv
         W = np.asarray(white_balance, dtype=np.float64)
+        key = W.tobytes()
+        last = self.__dict__.get("_last_inverse")
+        if last is not None and last[0] == key:  # the same W as the last call (a frame's
+            return last[1]                       # classifications share it)
+        out = self._inverse(W)
+        self.__dict__["_last_inverse"] = (key, out)
+        return out
+
+    def _inverse(self, W: NDArray[np.float64]) -> NDArray[np.float32]:
+        """:meth:`effective_inverse` of a float64 ``W`` (no cache)."""
         extra = self.measurement_noise**2 * (W @ W.T - np.eye(3))
         w, v = np.linalg.eigh(extra)
         extra = (v * np.maximum(w, 0.0)) @ v.T
