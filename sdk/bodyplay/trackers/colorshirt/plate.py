@@ -164,10 +164,10 @@ class RoomPlate:
             self._moved = np.zeros((h, w), bool)
             self._away = None
         self._small = f
-        known = self.known
-        assert known is not None
-        sel = known if self._away is None else known & self._away
-        sel = sel[::3, ::3]
+        assert self._count is not None
+        sel = self._count[::3, ::3] >= self.known_frames  # every 3rd pixel's known
+        if self._away is not None:
+            sel &= self._away[::3, ::3]
         if int(np.count_nonzero(sel)) > 100:
             # the median ratio: robust to a player standing where no pose says yet
             ratio = f[::3, ::3][sel] / np.maximum(self._mean[::3, ::3][sel], 1.0)
