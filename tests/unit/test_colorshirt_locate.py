@@ -26,6 +26,19 @@ def test_chroma_bins_quantize_normalized_red_green() -> None:
     assert chroma_bins(img).tolist() == [[90, 9, 0, -1]]
 
 
+def test_chroma_bins_equal_the_integer_quotients_for_every_brightness() -> None:
+    # floor(10 r / (r + g + b)) per channel, made without an integer division per pixel
+    v = np.arange(0, 256, 5, dtype=np.int64)
+    r, g, b = (a.ravel() for a in np.meshgrid(v, v, v, indexing="ij"))
+    img = np.stack([r, g, b], axis=1).astype(np.uint8)[None]
+    s = r + g + b
+    lit = s >= 60
+    expect = np.where(lit, np.minimum(10 * r // np.maximum(s, 1), 9) * 10
+                      + np.minimum(10 * g // np.maximum(s, 1), 9), -1)
+    assert np.array_equal(chroma_bins(img)[0], expect)
+    assert chroma_bins(np.zeros((1, 2, 3), np.uint8), min_brightness=0).tolist() == [[-1, -1]]
+
+
 @pytest.mark.parametrize("where", [(60, 40), (380, 200), (250, 300)])
 def test_locator_finds_painted_shirt_centre_and_scale(where) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(8)
