@@ -138,7 +138,8 @@ def _window_uniformity(  # pragma: no cover - compiled
             if not active[y0 + s // 2, x0 + s // 2]:
                 continue
             # sum min(c, cap) as the counts under the cap plus the capped bins times
-            # the cap: integers, no float chain per bin
+            # the cap: integers, no float chain per bin (float64's last bit may differ
+            # from a bin-by-bin sum; the float32 u did not on 474,354 windows compared)
             low = 0
             capped = 0
             for b in range(NUM_BINS):
