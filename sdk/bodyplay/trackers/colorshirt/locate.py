@@ -79,8 +79,8 @@ def _chroma_bin_image(  # pragma: no cover - compiled
     # lies at least 0.5 / s from an integer, far beyond a float64 rounding (and no
     # integer division per pixel)
     inv = np.zeros(3 * 255 + 1)
-    for s in range(1, 3 * 255 + 1):
-        inv[s] = 1.0 / s
+    for n in range(1, 3 * 255 + 1):
+        inv[n] = 1.0 / n
     for y in range(h):
         for x in range(w):
             if use_mask and not mask[y, x]:
