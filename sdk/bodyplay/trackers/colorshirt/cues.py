@@ -84,7 +84,12 @@ def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[C
     cams: list[int] = []
     sig: list[float] = []
     for v in views:
-        fg = states[v.index].floor.foreground()
+        st = states[v.index]
+        fg = st.floor.foreground()
+        if fg is None and st.room.seen_alike is not None:
+            # no empty room: the room plate, where another camera's view tells the
+            # room around the head that the plate has not uncovered yet
+            fg = st.room.foreground()
         if fg is None:
             continue
         cam = cameras[v.index]

@@ -143,6 +143,11 @@ class RoomPlate:
         None if there were none)."""
         return self._empty
 
+    @property
+    def seen_alike(self) -> NDArray[np.bool_] | None:
+        """This frame's pixels another camera shows as the same room (None: no answer)."""
+        return self._seen_alike
+
     def known_fraction(self) -> float:
         """Share of the frame's pixels that are known."""
         k = self.known
