@@ -35,6 +35,10 @@ _HEAD_FIT_STD = 0.06
 _NO_ANCHORS = PatchAnchors(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0, np.int64),
                            np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64))
 _HEAD_TOP = NODE_NAMES.index("head_top")
+_IN_VIEW_REACH = 1.0
+"""Head radii around the pose's head searched in the room plate's foreground (the
+empty-room plate's: 2): with the player in view the room beside the head is often
+unknown, foreground, so a wider search drifts to the arms and shoulders."""
 
 
 @dataclass(frozen=True)
@@ -73,23 +77,24 @@ def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
 def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],
                  states: Sequence[CameraState], views: Sequence[CameraView],
                  options: ColorShirtOptions) -> tuple[PatchAnchors, list[tuple[int, HeadPoint]]]:
-    """One anchor on the head per camera whose plate shows the head near pose ``q``
-    (``head_offset`` above the joint, std ``head_std`` m), and the heads found."""
+    """One anchor on the head per camera whose empty-room plate shows the head near
+    pose ``q`` (``head_offset`` above the joint, std ``head_std`` m), and the heads
+    found, also those of the room plate with the player in view (report only)."""
     if not options.head_cue:
         return _NO_ANCHORS, []
     J = skeleton.joint_positions(q)
     head_w, neck_w = J[JOINT_INDEX["head"]], J[JOINT_INDEX["neck"]]
     radius_m = HEAD_RADIUS * float(np.linalg.norm(skeleton.offsets[_HEAD_TOP])) / 0.13
-    found: list[HeadPoint] = []
-    cams: list[int] = []
-    sig: list[float] = []
+    found: list[tuple[int, HeadPoint]] = []
+    anchored: list[tuple[int, HeadPoint, float]] = []
     for v in views:
         st = states[v.index]
-        fg = st.floor.foreground()
-        if fg is None and st.room.seen_alike is not None:
+        fg, reach = st.floor.foreground(), 2.0
+        in_view = fg is None and st.room.seen_alike is not None
+        if in_view:
             # no empty room: the room plate, where another camera's view tells the
-            # room around the head that the plate has not uncovered yet
-            fg = st.room.foreground()
+            # room the plate has not uncovered; no outline there, so near the pose
+            fg, reach = st.room.foreground(), _IN_VIEW_REACH
         if fg is None:
             continue
         cam = cameras[v.index]
@@ -97,24 +102,24 @@ def head_anchors(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[C
         if z <= 0.3:
             continue
         f = float(cam.K[0, 0])
-        hp = find_head(fg, states[v.index].floor.plate.downscale,
+        hp = find_head(fg, st.floor.plate.downscale,
                        cam.project(head_w, distort=False), cam.project(neck_w, distort=False),
-                       radius_m * f / z)
+                       radius_m * f / z, reach=reach)
         if hp is None:
             continue
-        found.append(hp)
-        cams.append(v.index)
-        sig.append(options.head_std * f / z)
-    n = len(found)
+        found.append((v.index, hp))
+        if not in_view:  # as an anchor it moved the trunk's fit and the body chosen
+            anchored.append((v.index, hp, options.head_std * f / z))
+    n = len(anchored)
     anchors = PatchAnchors(
         np.full(n, _HEAD_NODE, np.int64),
         np.tile([0.0, options.head_offset, 0.0], (n, 1)),
-        np.asarray(cams, np.int64),
-        np.array([[h.u, h.v] for h in found], np.float64).reshape(n, 2),
-        np.asarray(sig, np.float64),
+        np.array([a[0] for a in anchored], np.int64),
+        np.array([[a[1].u, a[1].v] for a in anchored], np.float64).reshape(n, 2),
+        np.array([a[2] for a in anchored], np.float64),
         np.full(n, HEAD_PATCH, np.int64),
     )
-    return anchors, list(zip(cams, found, strict=True))
+    return anchors, found
 
 
 def head_from_cue(skeleton: Skeleton, q: NDArray[np.float64], cameras: Sequence[Camera],
