@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -10,9 +12,11 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt import ColorShirtOptions
-from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, head_from_cue, join_anchors
+from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, head_anchors, head_from_cue, join_anchors
 from bodyplay.trackers.colorshirt.head import HeadPoint, find_head
 from bodyplay.trackers.colorshirt.ik import PatchAnchors
+from bodyplay.trackers.colorshirt.locate import BackgroundMask
+from bodyplay.trackers.colorshirt.views import CameraState
 
 HEAD = np.array([320.0, 100.0])  # full-resolution centre of the head
 NECK = np.array([320.0, 136.0])
@@ -147,3 +151,50 @@ def test_head_from_cue_ignores_a_head_far_from_the_fitted_one() -> None:
     assert head_from_cue(sk, q, cams, [(i, _seen_at(c, far)) for i, c in enumerate(cams)],
                          opts) is None
     assert head_from_cue(sk, q, cams, [], opts) is None
+
+
+def _in_view_state(cam: Camera, visible: np.ndarray, neck: np.ndarray,
+                   other_camera: bool) -> CameraState:
+    """A camera that saw no empty room: its room plate knows nothing yet, and (when
+    ``other_camera``) another camera's view tells the room everywhere but the
+    player (a head disk at ``visible`` and the body below ``neck``)."""
+    st = CameraState(background=BackgroundMask())
+    frame = np.full((240, 320, 3), 120, np.uint8)
+    st.floor.start(frame, reduced=True)
+    u, v = cam.project(visible, distort=False) / 2
+    nu, nv = cam.project(neck, distort=False) / 2
+    yy, xx = np.mgrid[0:240, 0:320]
+    player = (xx + 0.5 - u) ** 2 + (yy + 0.5 - v) ** 2 <= 8.0**2
+    player[int(v): int(nv) + 2, int(nu) - 3: int(nu) + 4] = True  # the throat
+    player[int(nv): int(nv) + 60, int(nu) - 25: int(nu) + 26] = True  # the shirt
+    st.room.start(frame, ~player if other_camera else None)
+    st.floor.shirt_at((int(2 * nu) - 50, int(2 * nv), int(2 * nu) + 50, int(2 * nv) + 120))
+    return st
+
+
+def test_head_anchors_with_the_player_in_view_find_the_head_for_the_report_only() -> None:
+    sk, q, cams = _rig_and_pose()
+    opts = ColorShirtOptions()
+    J = sk.joint_positions(q)
+    head, neck = J[JOINT_INDEX["head"]], J[JOINT_INDEX["neck"]]
+    visible = head + np.array([0.0, opts.head_offset + 0.04, 0.0])  # a longer neck
+    st = _in_view_state(cams[0], visible, neck, other_camera=True)
+    view = SimpleNamespace(index=0)
+    anchors, found = head_anchors(sk, q, cams[:1], [st], [view], opts)  # type: ignore[list-item]
+    assert len(anchors) == 0  # the fit and the body chosen stay the shirt's
+    assert [i for i, _ in found] == [0]
+    seen = np.array([found[0][1].u, found[0][1].v])
+    assert np.linalg.norm(seen - cams[0].project(visible, distort=False)) < 3.0
+    out = head_from_cue(sk, q, cams[:1], found, opts)
+    assert out is not None and out[1] - head[1] > 0.02  # the reported head is raised
+
+
+def test_head_anchors_with_the_player_in_view_need_another_cameras_view() -> None:
+    sk, q, cams = _rig_and_pose()
+    opts = ColorShirtOptions()
+    J = sk.joint_positions(q)
+    visible = J[JOINT_INDEX["head"]] + np.array([0.0, opts.head_offset + 0.04, 0.0])
+    st = _in_view_state(cams[0], visible, J[JOINT_INDEX["neck"]], other_camera=False)
+    anchors, found = head_anchors(sk, q, cams[:1], [st], [SimpleNamespace(index=0)],  # type: ignore[list-item]
+                                  opts)
+    assert len(anchors) == 0 and found == []  # the unknown room beside the head is no outline
