@@ -2,8 +2,9 @@
 
 The head has no patch, but above the collar it is the only foreground:
 :func:`find_head` looks in the plate's foreground near where the fit predicts the
-head for a disk of the head's projected size. Beyond the paper; without a plate
-(no empty-room frames) the head follows the blend.
+head for a disk of the head's projected size. Beyond the paper; the foreground is
+the empty-room plate's, else the room plate's where another camera's view tells
+the room (:mod:`.cues`); without either the head follows the blend.
 """
 
 from __future__ import annotations
