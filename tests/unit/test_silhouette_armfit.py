@@ -112,3 +112,32 @@ def test_silhouette_options_reject_negative_arm_settings() -> None:
     for bad in ({"arm_candidates": -1}, {"arm_stay": -1.0}, {"arm_margin": -5.0}):
         with pytest.raises(ConfigError):
             SilhouetteOptions(**bad)  # type: ignore[arg-type]
+
+
+def test_capsule_costs_sum_every_pixel_a_capsule_covers_outside_the_body() -> None:
+    """The kernel skips pixels outside each segment's box; the sums must equal a plain
+    test of every pixel of the image against the three capsules."""
+    from bodyplay.trackers.silhouette.armfit import _capsule_costs
+
+    rng = np.random.default_rng(3)
+    h, w = 120, 160
+    cost = rng.normal(0.0, 1.0, (h, w))
+    body = (rng.random((h, w)) < 0.3).astype(np.uint8)
+    pts = rng.uniform(-10.0, 170.0, (40, 4, 2))
+    pts[:, :, 1] *= 0.75
+    pts[5, 2] = pts[5, 1]  # a segment of length zero
+    radii = np.array([5.0, 4.0, 3.5])
+    out = np.empty(len(pts))
+    _capsule_costs(pts, radii, cost, body, out)
+    ys, xs = np.mgrid[0:h, 0:w]
+    for k in range(len(pts)):
+        inside = np.zeros((h, w), bool)
+        for j in range(3):
+            a, b = pts[k, j], pts[k, j + 1]
+            d = b - a
+            ll = float(d @ d)
+            along = ((xs - a[0]) * d[0] + (ys - a[1]) * d[1]) / max(ll, 1e-12)
+            t = np.zeros((h, w)) if ll <= 1e-12 else np.clip(along, 0, 1)
+            inside |= (xs - a[0] - t * d[0]) ** 2 + (ys - a[1] - t * d[1]) ** 2 <= radii[j] ** 2
+        expected = cost[inside & (body == 0)].sum()
+        assert out[k] == pytest.approx(expected, rel=1e-9, abs=1e-9)

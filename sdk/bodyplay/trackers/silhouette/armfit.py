@@ -117,25 +117,49 @@ def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]
         y0 = max(y0, 0)
         x1 = min(x1, w - 1)
         y1 = min(y1, h - 1)
+        # each segment's own capsule box: a pixel is tested against the segments
+        # whose box holds it, and a row only over its boxes' span (the same pixels
+        # in the same order as the whole box, so the same sum)
+        bx0 = np.empty(3, np.int64)
+        bx1 = np.empty(3, np.int64)
+        by0 = np.empty(3, np.int64)
+        by1 = np.empty(3, np.int64)
+        sa = np.empty((3, 6))  # per segment: start, direction, squared length and radius
+        for j in range(3):
+            r = radii[j]
+            sa[j, 0] = pts[k, j, 0]
+            sa[j, 1] = pts[k, j, 1]
+            sa[j, 2] = pts[k, j + 1, 0] - sa[j, 0]
+            sa[j, 3] = pts[k, j + 1, 1] - sa[j, 1]
+            sa[j, 4] = sa[j, 2] * sa[j, 2] + sa[j, 3] * sa[j, 3]
+            sa[j, 5] = r * r
+            bx0[j] = int(np.floor(min(pts[k, j, 0], pts[k, j + 1, 0]) - r))
+            bx1[j] = int(np.ceil(max(pts[k, j, 0], pts[k, j + 1, 0]) + r))
+            by0[j] = int(np.floor(min(pts[k, j, 1], pts[k, j + 1, 1]) - r))
+            by1[j] = int(np.ceil(max(pts[k, j, 1], pts[k, j + 1, 1]) + r))
         s = 0.0
         for y in range(y0, y1 + 1):
-            for x in range(x0, x1 + 1):
+            rx0 = x1 + 1
+            rx1 = x0 - 1
+            for j in range(3):
+                if by0[j] <= y <= by1[j]:
+                    rx0 = min(rx0, bx0[j])
+                    rx1 = max(rx1, bx1[j])
+            for x in range(max(rx0, x0), min(rx1, x1) + 1):
                 if body[y, x]:
                     continue
                 inside = False
                 for j in range(3):
-                    ax = pts[k, j, 0]
-                    ay = pts[k, j, 1]
-                    bx = pts[k, j + 1, 0] - ax
-                    by = pts[k, j + 1, 1] - ay
-                    ll = bx * bx + by * by
+                    if not (bx0[j] <= x <= bx1[j] and by0[j] <= y <= by1[j]):
+                        continue
+                    ax, ay, bx, by, ll = sa[j, 0], sa[j, 1], sa[j, 2], sa[j, 3], sa[j, 4]
                     t = 0.0
                     if ll > 1e-12:
                         t = ((x - ax) * bx + (y - ay) * by) / ll
                         t = min(1.0, max(0.0, t))
                     dx = x - ax - t * bx
                     dy = y - ay - t * by
-                    if dx * dx + dy * dy <= radii[j] * radii[j]:
+                    if dx * dx + dy * dy <= sa[j, 5]:
                         inside = True
                         break
                 if inside:
