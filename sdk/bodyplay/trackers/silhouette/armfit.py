@@ -94,6 +94,11 @@ def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]
     segments (pts[k, 0..3] the chain shoulder, elbow, wrist, finger tips) and not in
     ``body``."""
     h, w = cost.shape
+    bx0 = np.empty(3, np.int64)
+    bx1 = np.empty(3, np.int64)
+    by0 = np.empty(3, np.int64)
+    by1 = np.empty(3, np.int64)
+    sa = np.empty((3, 6))  # per segment: start, direction, squared length and radius
     for k in range(pts.shape[0]):
         x0 = w
         x1 = -1
@@ -120,11 +125,6 @@ def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]
         # each segment's own capsule box: a pixel is tested against the segments
         # whose box holds it, and a row only over its boxes' span (the same pixels
         # in the same order as the whole box, so the same sum)
-        bx0 = np.empty(3, np.int64)
-        bx1 = np.empty(3, np.int64)
-        by0 = np.empty(3, np.int64)
-        by1 = np.empty(3, np.int64)
-        sa = np.empty((3, 6))  # per segment: start, direction, squared length and radius
         for j in range(3):
             r = radii[j]
             sa[j, 0] = pts[k, j, 0]
