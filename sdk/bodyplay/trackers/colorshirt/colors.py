@@ -63,52 +63,11 @@ def _mahalanobis_row(p0: NDArray[np.float32], p1: NDArray[np.float32],
         out[x] = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
 
 
-# Both kernels work a row at a time, color by color over the row's pixels (loops the
+# The kernel works a row at a time, color by color over the row's pixels (loops the
 # compiler vectorizes); every pixel gets the same operations in the same order as
 # one pixel at a time would, so the same values.
 @numba.njit(cache=True, nogil=True)
 def _classify_kernel(  # pragma: no cover - compiled
-    image: NDArray[np.uint8],
-    W: NDArray[np.float32],
-    means: NDArray[np.float32],
-    linv: NDArray[np.float32],
-    threshold: float,
-    mask: NDArray[np.bool_],
-    use_mask: bool,
-    penalty: NDArray[np.float32],
-    use_penalty: bool,
-) -> tuple[NDArray[np.uint8], NDArray[np.float32]]:
-    h, w = image.shape[0], image.shape[1]
-    k = means.shape[0]
-    ids = np.zeros((h, w), np.uint8)
-    best = np.full((h, w), np.inf, np.float32)
-    p0, p1, p2 = np.empty(w, np.float32), np.empty(w, np.float32), np.empty(w, np.float32)
-    dist = np.empty(w, np.float32)
-    bk = np.empty(w, np.int64)
-    for y in range(h):
-        _balanced_row(image, y, W, p0, p1, p2)
-        bd = best[y]
-        bk[:] = -1
-        for c in range(k):
-            _mahalanobis_row(p0, p1, p2, means, linv, c, dist)
-            if use_penalty:
-                for x in range(w):
-                    dist[x] += penalty[y, x, c]
-            for x in range(w):
-                v = dist[x]
-                lower = v < bd[x]
-                bd[x] = v if lower else bd[x]
-                bk[x] = c if lower else bk[x]
-        for x in range(w):
-            if use_mask and not mask[y, x]:
-                bd[x] = np.inf  # not classified
-            elif bd[x] < threshold:
-                ids[y, x] = bk[x] + 1
-    return ids, best
-
-
-@numba.njit(cache=True, nogil=True)
-def _classify_near_kernel(  # pragma: no cover - compiled
     image: NDArray[np.uint8],
     W: NDArray[np.float32],
     means: NDArray[np.float32],
@@ -122,9 +81,10 @@ def _classify_near_kernel(  # pragma: no cover - compiled
     strength: np.float32,
     far: np.float32,
 ) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
-    """:func:`_classify_kernel` with the penalty ``strength`` times each color's least
-    distance to one of its patches (``dists[j]`` of patch ``patch[j]`` of color
-    ``color[j]``; ``far`` for a color with none), and per classified pixel that patch."""
+    """Color ids of the balanced pixels nearest a color (Mahalanobis) under
+    ``threshold``, each color paying ``strength`` times its least distance to one of
+    its patches (``dists[j]`` of patch ``patch[j]`` of color ``color[j]``; ``far`` for
+    a color with none, nothing when ``far`` is 0), and per classified pixel that patch."""
     h, w = image.shape[0], image.shape[1]
     k = means.shape[0]
     ids = np.zeros((h, w), np.uint8)
@@ -156,12 +116,12 @@ def _classify_near_kernel(  # pragma: no cover - compiled
         _balanced_row(image, y, W, p0, p1, p2)
         bd[:] = np.inf
         bk[:] = -1
-        for c in range(k):  # as in _classify_kernel, the penalty made here
+        for c in range(k):
             _mahalanobis_row(p0, p1, p2, means, linv, c, dist)
             if seen[c]:
                 for x in range(w):
                     dist[x] += strength * best[c, x]
-            else:
+            elif far != 0:
                 for x in range(w):
                     dist[x] += far
             for x in range(w):
@@ -202,10 +162,9 @@ def _checked(image: NDArray[np.uint8], white_balance: ArrayLike | None,
 
 @dataclass(frozen=True, eq=False)
 class Classification:
-    """A classified image: color id map (0 = none, k+1 = color k) and best distances."""
+    """A classified image: color id map (0 = none, k+1 = color k)."""
 
     ids: NDArray[np.uint8]
-    distance: NDArray[np.float32]
 
     def fraction_classified(self, mask: NDArray[np.bool_] | None = None) -> float:
         """Fraction of (foreground) pixels that received a color: the paper's 40% test."""
@@ -321,28 +280,19 @@ class ColorModel:
         white_balance: ArrayLike | None = None,
         threshold: float = 3.0,
         mask: NDArray[np.bool_] | None = None,
-        penalty: NDArray[np.float32] | None = None,
     ) -> Classification:
         """Classify an RGB image into a color id map.
 
         ``white_balance`` is the 3x3 ``W`` applied to each pixel first (identity when
         None); ``mask`` restricts classification to foreground pixels (the paper's
-        background-subtraction mask); ``penalty`` (H, W, 10) is added to each color's
-        distance before the arg-min and the threshold (the pose prior ``C d``).
+        background-subtraction mask).
         """
         img, W, m = _checked(image, white_balance, mask)
-        h, w = img.shape[:2]
-        use_pen = penalty is not None
-        pen = np.ascontiguousarray(penalty, dtype=np.float32) if penalty is not None else np.zeros(
-            (1, 1, NUM_COLORS), np.float32
-        )
-        if use_pen and pen.shape != (h, w, NUM_COLORS):
-            raise ConfigError(f"penalty must be {(h, w, NUM_COLORS)}, got {pen.shape}")
-        ids, best = _classify_kernel(
+        ids, _ = _classify_kernel(
             img, W, self._means32, self.effective_inverse(W), float(threshold), m,
-            mask is not None, pen, use_pen
-        )
-        return Classification(ids, best)
+            mask is not None, np.zeros((0, 1, 1), np.float32), np.zeros(0, np.uint8),
+            np.zeros(0, np.int64), np.float32(0.0), np.float32(0.0))
+        return Classification(ids)
 
     def classify_near(
         self,
@@ -365,7 +315,7 @@ class ColorModel:
         if d.ndim != 3 or d.shape[1:] != img.shape[:2] or not len(patch) == len(color) == len(d):
             raise ConfigError(f"distances must be (M, H, W) of the image with M patches and "
                               f"colors, got {d.shape}, {len(patch)}, {len(color)}")
-        return _classify_near_kernel(
+        return _classify_kernel(
             img, W, self._means32, self.effective_inverse(W), float(threshold), m,
             mask is not None, d, np.ascontiguousarray(patch, np.uint8),
             np.ascontiguousarray(color, np.int64), np.float32(strength), np.float32(far))
