@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from importlib import resources
-from pathlib import Path
 
 import numba
 import numpy as np
@@ -184,12 +183,6 @@ class PriorModel:
         return cls(float(data["centroid"]),  # type: ignore[arg-type]
                    tuple(float(v) for v in data["blend"]),  # type: ignore[attr-defined]
                    tuple(float(v) for v in data["previous"]))  # type: ignore[attr-defined]
-
-    def save(self, path: str | Path) -> Path:
-        """Write as JSON."""
-        p = Path(path)
-        p.write_text(json.dumps(self.to_dict(), indent=1))
-        return p
 
     @classmethod
     def fit(
