@@ -282,14 +282,6 @@ class PoseDatabase:
         return int(self.poses.shape[0])
 
     @cached_property
-    def _basis(self) -> NDArray[np.float32]:
-        return np.ascontiguousarray(self.pca_basis, np.float32)
-
-    @cached_property
-    def _features(self) -> NDArray[np.float32]:
-        return np.ascontiguousarray(self.features, np.float32)
-
-    @cached_property
     def _feature_norms(self) -> NDArray[np.float32]:
         return np.einsum("nd,nd->n", self.features, self.features)
 
@@ -302,7 +294,7 @@ class PoseDatabase:
     def query_features(self, idmap: NDArray[np.uint8]) -> NDArray[np.float32]:
         """Project one id map onto the principal components."""
         f = _features(idmap[None])[0] - self.pca_mean
-        return _matvec(self._basis, np.asarray(f, np.float32))
+        return _matvec(self.pca_basis, np.asarray(f, np.float32))
 
     def query(self, idmap: NDArray[np.uint8], k: int | None = None,
               exact: bool = False, facing: NDArray[np.float64] | None = None,
@@ -322,7 +314,7 @@ class PoseDatabase:
             cand = np.arange(len(self))
         else:
             f = self.query_features(idmap)
-            d = self._feature_norms - 2.0 * _matvec(self._features, f)
+            d = self._feature_norms - 2.0 * _matvec(self.features, f)
             m = min(o.candidates, len(self) - 1)
             if facing is not None:
                 ok = self.facings @ np.asarray(facing, np.float64) >= min_cos
