@@ -51,7 +51,11 @@ def test_classify_matches_the_vectorized_mahalanobis_distance() -> None:
     model = srgb_color_model()
     W = np.array([[1.1, 0.05, 0.0], [0.0, 0.9, 0.02], [0.01, 0.0, 1.3]])
     cls = model.classify(img, W, threshold=4.0)
-    d = model.mahalanobis(img.reshape(-1, 3) @ W.T)
+    # the reference: the distances vectorized, with the kernel's float32 inverse factors
+    linv = np.linalg.inv(np.linalg.cholesky(model.covariances)).astype(np.float32)
+    diff = (img.reshape(-1, 3) @ W.T)[:, None, :] - model.means[None]
+    z = np.einsum("kij,nkj->nki", linv.astype(np.float64), diff)
+    d = np.sqrt(np.sum(z * z, axis=-1))
     best = d.min(axis=1).reshape(17, 23)
     expect = np.where(best < 4.0, d.argmin(axis=1).reshape(17, 23) + 1, 0)
     assert np.array_equal(cls.ids, expect)

@@ -267,13 +267,6 @@ class ColorModel:
     def _means32(self) -> NDArray[np.float32]:
         return self.means.astype(np.float32)
 
-    def mahalanobis(self, pixels: ArrayLike) -> NDArray[np.float64]:
-        """(N, 3) RGB (already white-balanced) -> (N, 10) Mahalanobis distances."""
-        px = np.asarray(pixels, dtype=np.float64).reshape(-1, 3)
-        d = px[:, None, :] - self.means[None]
-        z = np.einsum("kij,nkj->nki", self._linv.astype(np.float64), d)
-        return np.sqrt(np.sum(z * z, axis=-1))
-
     def classify(
         self,
         image: NDArray[np.uint8],
