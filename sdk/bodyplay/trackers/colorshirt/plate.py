@@ -148,11 +148,6 @@ class RoomPlate:
         """This frame's pixels another camera shows as the same room (None: no answer)."""
         return self._seen_alike
 
-    def known_fraction(self) -> float:
-        """Share of the frame's pixels that are known."""
-        k = self.known
-        return 0.0 if k is None else float(k.mean())
-
     def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
               seen_alike: NDArray[np.bool_] | None = None) -> None:
         """A new frame at the plate's resolution (RGB); the plate follows the light.
