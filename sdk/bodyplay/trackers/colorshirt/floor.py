@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.capture.camera import Camera
+from bodyplay.trackers.colorshirt.locate import reduce_box, reduce_image
 from bodyplay.trackers.colorshirt.plate import RoomPlate
 
 __all__ = [
@@ -57,11 +58,7 @@ class BackgroundPlate:
 
     def small(self, image: NDArray[np.uint8], reduced: bool = False) -> NDArray[np.float32]:
         """``image`` at the plate's resolution, as float32 (``reduced``: it already is)."""
-        h, w = image.shape[:2]
-        if self.downscale > 1 and not reduced:
-            image = np.asarray(cv2.resize(image, (w // self.downscale, h // self.downscale),
-                                          interpolation=cv2.INTER_AREA), np.uint8)
-        return image.astype(np.float32)
+        return (image if reduced else reduce_image(image, self.downscale)).astype(np.float32)
 
     def learn(self, small: NDArray[np.float32]) -> None:
         """A frame with nobody in view: the plate follows it (a running mean)."""
@@ -261,8 +258,7 @@ class FloorWatch:
         assert self._small is not None and self._shirt is not None
         d = self.plate.downscale
         h, w = self._small.shape[:2]
-        x0, y0, x1, y1 = person_region(self._shirt, w * d, h * d)
-        return (x0 // d, y0 // d, -(-x1 // d), -(-y1 // d))
+        return reduce_box(person_region(self._shirt, w * d, h * d), d, w, h)
 
     def foreground(self) -> NDArray[np.bool_] | None:
         """This frame's foreground around the person (plate resolution), computed once
@@ -278,10 +274,8 @@ class FloorWatch:
         (width, height) of the working crop; None before the plate is ready."""
         if self._small is None or not self.plate.ready:
             return None
-        d = self.plate.downscale
         h, w = self._small.shape[:2]
-        x0, y0, x1, y1 = (max(box[0] // d, 0), max(box[1] // d, 0),
-                          min(-(-box[2] // d), w), min(-(-box[3] // d), h))
+        x0, y0, x1, y1 = reduce_box(box, self.plate.downscale, w, h)
         if x1 - x0 < 2 or y1 - y0 < 2:
             return None
         fg = self.plate.foreground(self._small, (x0, y0, x1, y1))

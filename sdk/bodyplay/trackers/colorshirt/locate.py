@@ -18,7 +18,8 @@ from numpy.typing import NDArray
 
 from bodyplay.errors import ConfigError
 
-__all__ = ["LocateOptions", "ShirtLocation", "ShirtLocator", "BackgroundMask", "chroma_bins"]
+__all__ = ["LocateOptions", "ShirtLocation", "ShirtLocator", "BackgroundMask", "chroma_bins",
+           "reduce_box", "reduce_image"]
 
 BINS_PER_AXIS = 10
 NUM_BINS = BINS_PER_AXIS * BINS_PER_AXIS
@@ -290,6 +291,24 @@ class ShirtLocator:
         return ShirtLocation(float(x), float(y), float(scale), u_max, u_max >= o.min_uniformity)
 
 
+def reduce_image(image: NDArray[np.uint8], downscale: int) -> NDArray[np.uint8]:
+    """``image`` ``downscale`` times smaller (area averaging; itself when 1)."""
+    if downscale == 1:
+        return image
+    h, w = image.shape[:2]
+    return np.asarray(cv2.resize(image, (w // downscale, h // downscale),
+                                 interpolation=cv2.INTER_AREA), dtype=np.uint8)
+
+
+def reduce_box(box: tuple[int, int, int, int], downscale: int, width: int, height: int
+               ) -> tuple[int, int, int, int]:
+    """A full-resolution box ``(x0, y0, x1, y1)`` at ``downscale``, widened to whole
+    pixels and clipped to the reduced image's ``width`` and ``height``."""
+    d = downscale
+    return (max(box[0] // d, 0), max(box[1] // d, 0),
+            min(-(-box[2] // d), width), min(-(-box[3] // d), height))
+
+
 class BackgroundMask:
     """Coarse foreground mask from OpenCV's MOG2 subtractor, run at reduced resolution;
     :meth:`apply` gives None during the ``warmup`` frames and for an almost empty mask."""
@@ -311,21 +330,15 @@ class BackgroundMask:
         the model saw change (None during the warm-up or for an empty box)."""
         if self.raw is None:
             return None
-        d = self.downscale
         h, w = self.raw.shape
-        x0, y0 = max(box[0] // d, 0), max(box[1] // d, 0)
-        x1, y1 = min(-(-box[2] // d), w), min(-(-box[3] // d), h)
+        x0, y0, x1, y1 = reduce_box(box, self.downscale, w, h)
         if x1 <= x0 or y1 <= y0:
             return None
         return float(self.raw[y0:y1, x0:x1].mean())
 
     def reduce(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
         """``image`` at the model's resolution (what :meth:`apply` works on)."""
-        h, w = image.shape[:2]
-        if self.downscale == 1:
-            return image
-        return np.asarray(cv2.resize(image, (w // self.downscale, h // self.downscale),
-                                     interpolation=cv2.INTER_AREA), dtype=np.uint8)
+        return reduce_image(image, self.downscale)
 
     def apply(self, image: NDArray[np.uint8], small: NDArray[np.uint8] | None = None
               ) -> NDArray[np.bool_] | None:
