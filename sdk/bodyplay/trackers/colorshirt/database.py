@@ -367,17 +367,14 @@ class PoseDatabase:
 def build_database(
     skeleton: Skeleton,
     options: DatabaseOptions,
-    poses: NDArray[np.float64] | None = None,
+    poses: NDArray[np.float64],
     progress: bool = False,
     chunk: int = 2000,
 ) -> PoseDatabase:
-    """Render the database: ``poses`` (default :func:`sample_database_poses`) as id maps."""
+    """Render the database: ``poses`` (e.g. :func:`sample_database_poses`) as id maps."""
     from tqdm import tqdm
 
     mesh = body_mesh(skeleton)
-    if poses is None:
-        poses = sample_database_poses(skeleton, options.size, np.random.default_rng(options.seed),
-                                      options)
     poses = np.asarray(poses, dtype=np.float64)
     n = poses.shape[0]
     cam = canonical_camera()
