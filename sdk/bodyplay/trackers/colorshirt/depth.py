@@ -60,8 +60,6 @@ class RootDepthFilter:
     """Time of the last reading taken in (the depth lapses ``horizon`` after it)."""
     t_floor: float = float("nan")
     """Time of the last floor reading taken in."""
-    rejected: bool = False
-    """Whether this frame's floor reading was left out (by the last posterior or end)."""
     rejects: dict[str, int] = field(default_factory=lambda: {"floor": 0, "shirt": 0})
     kf: KalmanFilter | None = field(default=None, repr=False)
     _floor: float | None = field(default=None, repr=False)
@@ -138,7 +136,6 @@ class RootDepthFilter:
         the root, m; None: no reading), folded in with the fit's readings. Two or
         more cameras see depth themselves: the depth is then forgotten; no camera:
         nothing changes."""
-        self.rejected = False
         self._floor = None
         if cameras_seeing == 0:
             return
@@ -213,8 +210,7 @@ class RootDepthFilter:
                 return None
             x, P = self._from_shirt(shirt)
             return float(x[0]), float(np.sqrt(P[0, 0]))
-        x, P, took = self._fold(shirt)
-        self.rejected = took["floor_rejected"]
+        x, P, _ = self._fold(shirt)
         return float(x[0]), float(np.sqrt(P[0, 0]))
 
     def end(self, t: float, shirt: float | None) -> None:
@@ -229,7 +225,6 @@ class RootDepthFilter:
                 self.t = self.t_read = t
             return
         x, P, took = self._fold(shirt)
-        self.rejected = took["floor_rejected"]
         self.kf.x, self.kf.P = x, P
         if took["floor"] or took["shirt"]:
             self.t_read = t
