@@ -119,11 +119,10 @@ def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None) ->
 
 @dataclass(frozen=True)
 class AutoWhiteBalance:
-    """The result of :func:`auto_white_balance`: ``W``, its score and classified fraction."""
+    """The result of :func:`auto_white_balance`: ``W`` and its score."""
 
     W: NDArray[np.float64]
     score: float
-    fraction: float
 
 
 def _candidate_gains(
@@ -191,7 +190,7 @@ def auto_white_balance(
         if s2 < score - 1e-3:
             break
         best_W, cls, score = W2, cls2, s2
-    return AutoWhiteBalance(best_W, score, cls.fraction_classified(mask))
+    return AutoWhiteBalance(best_W, score)
 
 
 @dataclass
