@@ -241,11 +241,10 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         sub = (slice(None), slice(None))
     sub_mask = None if mask is None else mask[sub]
     if st.W is None:
-        auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
+        st.W = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
                                   candidates=list(st.references.matrices))
-        st.W = auto.W
         if o.adaptive_white_balance:
-            st.references.add(auto.W)
+            st.references.add(st.W)
     assert st.W is not None
     cls = model.classify(crop, st.W, o.threshold, mask)
     W = st.W
@@ -263,9 +262,9 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
         ):
             auto = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
                                       candidates=list(st.references.matrices))
-            cls2 = model.classify(crop, auto.W, o.threshold, mask)
+            cls2 = model.classify(crop, auto, o.threshold, mask)
             if classification_score(cls2.ids) > classification_score(cls.ids):
-                W, cls = auto.W, cls2
+                W, cls = auto, cls2
         st.W = W
     st.last_fraction = cls.fraction_classified(fg)
     if noise_model is not model:  # W was chosen with the plain model

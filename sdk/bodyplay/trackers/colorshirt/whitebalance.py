@@ -19,7 +19,7 @@ from bodyplay.trackers.colorshirt.colors import Classification, ColorModel
 
 __all__ = ["fit_white_balance", "color_means", "white_balance_from_ids",
            "white_balance_from_scribbles", "auto_white_balance", "classification_score",
-           "ReferenceIlluminations", "AutoWhiteBalance"]
+           "ReferenceIlluminations"]
 
 
 def fit_white_balance(
@@ -117,14 +117,6 @@ def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None) ->
     return float(np.minimum(counts / max(n, 1), 0.1).sum())
 
 
-@dataclass(frozen=True)
-class AutoWhiteBalance:
-    """The result of :func:`auto_white_balance`: ``W`` and its score."""
-
-    W: NDArray[np.float64]
-    score: float
-
-
 def _candidate_gains(
     image: NDArray[np.uint8], mask: NDArray[np.bool_] | None, model: ColorModel
 ) -> list[NDArray[np.float64]]:
@@ -152,7 +144,7 @@ def auto_white_balance(
     refine_steps: int = 3,
     sample: int = 48,
     candidates: list[NDArray[np.float64]] | None = None,
-) -> AutoWhiteBalance:
+) -> NDArray[np.float64]:
     """Estimate ``W`` with no scribbles from an image of the (located) shirt region:
     the best-scoring gray-world or illuminant-gain candidate (and ``candidates``) on a
     ``sample``-pixel-wide thumbnail, then the full 3x3 ``W`` refitted from its own
@@ -190,7 +182,7 @@ def auto_white_balance(
         if s2 < score - 1e-3:
             break
         best_W, cls, score = W2, cls2, s2
-    return AutoWhiteBalance(best_W, score)
+    return best_W
 
 
 @dataclass
