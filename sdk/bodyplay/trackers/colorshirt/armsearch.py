@@ -47,10 +47,6 @@ _Points = tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDA
 """Surface points of one arm: bone slot, position and normal in the bone's frame, color."""
 
 
-def _arm_patches(side: str) -> tuple[int, ...]:
-    return tuple(p.id for p in PATCHES if p.bone in ARM_NODES[side])
-
-
 def color_distance_maps(ids: NDArray[np.uint8], colors: tuple[int, ...] | None = None
                         ) -> NDArray[np.float32]:
     """(10, H, W) distance in pixels to the nearest pixel of each color in a color map.
@@ -206,8 +202,8 @@ class ArmSearch:
     def _surface_points(self, mesh: SkinnedMesh, side: str) -> _Points:
         """One point per face of the arm's patches, in its bone's rest frame."""
         sk = self.skeleton
-        faces = np.concatenate([_spread(np.nonzero(mesh.face_part == p)[0], self._per_patch)
-                                for p in _arm_patches(side)])
+        faces = np.concatenate([_spread(np.nonzero(mesh.face_part == p.id)[0], self._per_patch)
+                                for p in PATCHES if p.bone in ARM_NODES[side]])
         v = mesh.rest_vertices.astype(np.float64)[mesh.faces[faces]]
         centre = v.mean(axis=1)
         normal = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
@@ -246,7 +242,7 @@ class ArmSearch:
             extra.append((self.skeleton.forward(previous), previous))
         n_extra = len(extra)
         first = _EXTRA - n_extra
-        mean_tau = float(np.mean([v.tau for v in views])) if views else 1.0
+        mean_tau = float(np.mean([v.tau for v in views]))
         stage1: dict[str, NDArray[np.float64]] = {}
         short: dict[str, NDArray[np.intp]] = {}
         rels: dict[str, NDArray[np.float64]] = {}
@@ -512,15 +508,17 @@ def arm_library(skeleton: Skeleton, poses: NDArray[np.float64], size: int, seed:
         nodes = [skeleton.node_index(f"{s}_{n}") for n in ("shoulder", "elbow", "wrist")]
         rel = (np.einsum("nij,nkj->nki", inv[:, :3, :3], T[:, nodes][..., :3, 3])
                + inv[:, None, :3, 3])
-        keep = _farthest(rel.reshape(len(rel), -1).astype(np.float32),
-                         min(size, len(rel)), rng)
-        out[s] = poses[keep]
+        X = np.ascontiguousarray(rel.reshape(len(rel), -1), np.float32)
+        keep = _farthest(X, min(size, len(rel)), int(rng.integers(len(X))))
+        out[s] = poses[keep.astype(np.intp)]
     return out
 
 
 @numba.njit(cache=True, nogil=True)
-def _farthest_kernel(X: NDArray[np.float32], n: int, first: int
-                     ) -> NDArray[np.int64]:  # pragma: no cover - compiled
+def _farthest(X: NDArray[np.float32], n: int, first: int
+              ) -> NDArray[np.int64]:  # pragma: no cover - compiled
+    """Indices of ``n`` rows of ``X`` spread by greedy farthest-point sampling from
+    row ``first``."""
     m, d = X.shape
     chosen = np.empty(n, np.int64)
     chosen[0] = first
@@ -537,9 +535,3 @@ def _farthest_kernel(X: NDArray[np.float32], n: int, first: int
             if s < dist[i]:
                 dist[i] = s
     return chosen
-
-
-def _farthest(X: NDArray[np.float32], n: int, rng: np.random.Generator) -> NDArray[np.intp]:
-    """Indices of ``n`` rows of ``X`` spread by greedy farthest-point sampling."""
-    first = int(rng.integers(len(X)))
-    return _farthest_kernel(np.ascontiguousarray(X, np.float32), n, first).astype(np.intp)
