@@ -31,38 +31,27 @@ class DatabasePlacement:
         self.cameras = cameras
         self._canonical = canonical_camera()
 
-    def place_entries(self, view: CameraView, pose: NDArray[np.float64],
-                      root_crop: NDArray[np.float64], root_depth: NDArray[np.float64],
-                      crop_scale: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Place database poses (C, D), relative to the canonical camera, in the world
-        through ``view`` (see the module docstring)."""
-        cam = self.cameras[view.index]
-        s_img = view.query_scale * view.window.scale  # query px per image px
-        uv = view.window.to_image((root_crop - view.query_offset) / view.query_scale)
-        f_ratio = cam.K[0, 0] / self._canonical.K[0, 0]
-        depth = root_depth * f_ratio * s_img / crop_scale
-        rays = np.concatenate([uv, np.ones((len(uv), 1))], axis=1) @ np.linalg.inv(cam.K).T
-        roots = (rays * depth[:, None] - cam.t) @ cam.R
-        R_body = cam.R.T @ self._canonical.R @ rotvec_to_matrix(pose[:, 3:6])
-        q = pose.copy()
-        q[:, 0:3] = roots
-        q[:, 3:6] = matrix_to_rotvec(R_body)
-        return q
-
     def place(self, view: CameraView, others: list[CameraView] | None = None
               ) -> NDArray[np.float64]:
-        """Blend ``view``'s neighbours and place the blend in the world through its camera;
-        with ``others`` (the other cameras' views) the root moves along the ray to
-        the depth where every view's ray through its own blend's root meets (within
-        ``_RAY_GAP``), which a bow or a lean cannot fool.
+        """Blend ``view``'s neighbours and place the blend in the world through its camera
+        (see the module docstring); with ``others`` (the other cameras' views) the root
+        moves along the ray to the depth where every view's ray through its own blend's
+        root meets (within ``_RAY_GAP``), which a bow or a lean cannot fool.
         """
         b = self.database.blend(view.neighbours)  # type: ignore[arg-type]
-        q = self.place_entries(view, b.pose[None], b.root_crop[None],
-                               np.array([b.root_depth]), np.array([b.crop_scale]))[0]
+        cam = self.cameras[view.index]
+        s_img = view.query_scale * view.window.scale  # query px per image px
+        uv = view.window.to_image((b.root_crop[None] - view.query_offset) / view.query_scale)
+        f_ratio = cam.K[0, 0] / self._canonical.K[0, 0]
+        depth = b.root_depth * f_ratio * s_img / b.crop_scale
+        rays = np.concatenate([uv, np.ones((1, 1))], axis=1) @ np.linalg.inv(cam.K).T
+        R_body = cam.R.T @ self._canonical.R @ rotvec_to_matrix(b.pose[None, 3:6])
+        q = b.pose.copy()
+        q[0:3] = ((rays * depth - cam.t) @ cam.R)[0]
+        q[3:6] = matrix_to_rotvec(R_body)[0]
         if others:
             root = self._triangulate([view, *others], b)
             if root is not None:  # along the leading camera's ray, to the triangulated depth
-                cam = self.cameras[view.index]
                 z0 = float(cam.world_to_camera(q[:3])[2])
                 z1 = float(cam.world_to_camera(root)[2])
                 if z0 > 0.3:
