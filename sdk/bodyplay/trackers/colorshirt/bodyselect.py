@@ -66,10 +66,9 @@ class BodyModel:
         return cls(name, sk, PoseRenderer(sk), KinematicSolver(sk, cameras))
 
 
-def build_body_models(cameras: tuple[Camera, ...],
-                      names: tuple[str, ...] | None = None) -> dict[str, BodyModel]:
-    """A :class:`BodyModel` for every named preset (default: all shipped presets)."""
-    return {n: BodyModel.build(n, cameras) for n in (names or tuple(BODY_SHAPES))}
+def build_body_models(cameras: tuple[Camera, ...]) -> dict[str, BodyModel]:
+    """A :class:`BodyModel` for every shipped preset."""
+    return {n: BodyModel.build(n, cameras) for n in BODY_SHAPES}
 
 
 def with_arm_scale(skeleton: Skeleton, scale: float) -> Skeleton:
