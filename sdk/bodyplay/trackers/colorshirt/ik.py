@@ -295,7 +295,7 @@ class KinematicSolver:
                a: PatchAnchors, priors: list[tuple[NDArray[np.float64], NDArray[np.float64]]],
                root_priors: tuple[RootPrior, ...], max_nfev: int, limits: bool
                ) -> NDArray[np.float64]:
-        """Levenberg-Marquardt on anchors + priors (+ joint limits as residuals
+        """Levenberg-Marquardt on anchors + priors (one or more; + joint limits as residuals
         ``(q - hi) / 0.02`` beyond the bounds; the result is clamped to them)."""
         inv_sigma = 1.0 / a.sigma
         lo = self._lo[free].copy()
@@ -315,8 +315,8 @@ class KinematicSolver:
         lim_idx = np.nonzero(lim)[0]
         lo_l, hi_l = lo[lim_idx], hi[lim_idx]
         n_pr = n_x * len(priors)
-        targets = np.concatenate([t for t, _ in priors]) if priors else np.zeros(0)
-        inv_std = np.concatenate([w for _, w in priors]) if priors else np.zeros(0)
+        targets = np.concatenate([t for t, _ in priors])
+        inv_std = np.concatenate([w for _, w in priors])
         tgt = (a.target * inv_sigma[:, None]).ravel()
         inv_s = np.repeat(inv_sigma, 2)
         r_out = np.empty(n_res)
@@ -337,8 +337,7 @@ class KinematicSolver:
             Qbuf[0, free] = x
             proj = self.project(Qbuf[:1], a, R0)[0]
             r_out[: 2 * n_a] = proj.ravel() * inv_s - tgt
-            if n_pr:
-                r_out[2 * n_a: 2 * n_a + n_pr] = (np.tile(x, len(priors)) - targets) * inv_std
+            r_out[2 * n_a: 2 * n_a + n_pr] = (np.tile(x, len(priors)) - targets) * inv_std
             if n_rp:
                 r_out[2 * n_a + n_pr: 2 * n_a + n_pr + n_rp] = (rp_dir @ x[:3]) * rp_w - rp_t
             if len(lim_idx):
