@@ -249,19 +249,15 @@ class ColorModel:
         last = self.__dict__.get("_last_inverse")
         if last is not None and last[0] == key:  # the same W as the last call (a frame's
             return last[1]                       # classifications share it)
-        out = self._inverse(W)
-        self.__dict__["_last_inverse"] = (key, out)
-        return out
-
-    def _inverse(self, W: NDArray[np.float64]) -> NDArray[np.float32]:
-        """:meth:`effective_inverse` of a float64 ``W`` (no cache)."""
         extra = self.measurement_noise**2 * (W @ W.T - np.eye(3))
         w, v = np.linalg.eigh(extra)
         extra = (v * np.maximum(w, 0.0)) @ v.T
-        if not np.any(extra):
-            return self._linv
-        L = np.linalg.cholesky(self.covariances + extra[None])
-        return np.linalg.inv(L).astype(np.float32)
+        out = self._linv
+        if np.any(extra):
+            L = np.linalg.cholesky(self.covariances + extra[None])
+            out = np.linalg.inv(L).astype(np.float32)
+        self.__dict__["_last_inverse"] = (key, out)
+        return out
 
     @cached_property
     def _means32(self) -> NDArray[np.float32]:
