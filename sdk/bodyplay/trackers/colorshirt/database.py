@@ -296,10 +296,9 @@ class PoseDatabase:
         f = _features(idmap[None])[0] - self.pca_mean
         return _matvec(self.pca_basis, np.asarray(f, np.float32))
 
-    def query(self, idmap: NDArray[np.uint8], k: int | None = None,
-              exact: bool = False, facing: NDArray[np.float64] | None = None,
-              min_cos: float = 0.0) -> Neighbours:
-        """The ``k`` nearest maps (default ``options.neighbours``) by pixel mismatch.
+    def query(self, idmap: NDArray[np.uint8], exact: bool = False,
+              facing: NDArray[np.float64] | None = None, min_cos: float = 0.0) -> Neighbours:
+        """The ``options.neighbours`` nearest maps by pixel mismatch.
 
         ``exact`` scans every map (slow; for measuring the coarse search's recall).
         ``facing``: the forward axis expected (camera frame, as :attr:`facings`);
@@ -307,7 +306,6 @@ class PoseDatabase:
         there are enough (front and back of the shirt can look alike in 40x40).
         """
         o = self.options
-        k = o.neighbours if k is None else k
         if idmap.shape != (o.map_size, o.map_size):
             raise ConfigError(f"query id map must be {o.map_size}x{o.map_size}")
         if exact:
@@ -322,7 +320,7 @@ class PoseDatabase:
                     d = np.where(ok, d, np.inf).astype(np.float32)
             cand = np.argpartition(d, m)[:m]
         mis = mismatch(self.ids[cand], idmap[None])
-        order = np.argsort(mis, kind="stable")[:k]
+        order = np.argsort(mis, kind="stable")[:o.neighbours]
         return Neighbours(cand[order].astype(np.int64),
                           mis[order].astype(np.float64) / float(idmap.size))
 
