@@ -122,13 +122,15 @@ class RoomPlate:
         self._run: NDArray[np.uint8] | None = None
         self._prev: NDArray[np.float32] | None = None
         self._small: NDArray[np.float32] | None = None
-        self._empty: NDArray[np.bool_] | None = None
+        self.empty_room: NDArray[np.bool_] | None = None
+        """Pixels learned on frames before the player was seen (an empty-room start;
+        None if there were none)."""
         self._moved: NDArray[np.bool_] | None = None
         """Pixels seen to change (not with the light) since the plate began."""
         self._away: NDArray[np.bool_] | None = None
         """Pixels away from the player at the last :meth:`learn` (the light's gain)."""
-        self._seen_alike: NDArray[np.bool_] | None = None
-        """This frame's pixels that another camera shows as the same room."""
+        self.seen_alike: NDArray[np.bool_] | None = None
+        """This frame's pixels another camera shows as the same room (None: no answer)."""
 
     @property
     def known(self) -> NDArray[np.bool_] | None:
@@ -137,23 +139,12 @@ class RoomPlate:
             return None
         return self._count >= self.known_frames
 
-    @property
-    def empty_room(self) -> NDArray[np.bool_] | None:
-        """Pixels learned on frames before the player was seen (an empty-room start;
-        None if there were none)."""
-        return self._empty
-
-    @property
-    def seen_alike(self) -> NDArray[np.bool_] | None:
-        """This frame's pixels another camera shows as the same room (None: no answer)."""
-        return self._seen_alike
-
     def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
               seen_alike: NDArray[np.bool_] | None = None) -> None:
         """A new frame at the plate's resolution (RGB); the plate follows the light.
         ``seen_alike``: pixels another camera shows as the same room, room this
         frame where the plate does not know it."""
-        self._seen_alike = seen_alike
+        self.seen_alike = seen_alike
         f = np.asarray(small, np.float32)
         if self._mean is None or self._mean.shape != f.shape:
             h, w = f.shape[:2]
@@ -184,10 +175,10 @@ class RoomPlate:
         known = self.known
         assert known is not None
         if not known.any():
-            return None if self._seen_alike is None else ~self._seen_alike
+            return None if self.seen_alike is None else ~self.seen_alike
         level = float(np.sum(cv2.mean(self._mean)[:3]))
         threshold = self.threshold * min(1.0, max(0.3, level / self.contrast_level))
-        alike = self._seen_alike
+        alike = self.seen_alike
         assert self._count is not None
         room = _room(self._small, self._mean, self._count, self.known_frames,
                      np.float32(threshold), np.zeros((1, 1), np.bool_) if alike is None
@@ -222,7 +213,7 @@ class RoomPlate:
         if not learn.any():
             return
         if person is None:  # an empty-room frame (``everywhere``)
-            self._empty = learn if self._empty is None else self._empty | learn
+            self.empty_room = learn if self.empty_room is None else self.empty_room | learn
         mean, count = self._mean.copy(), self._count.copy()
         _learn(mean, count, np.ascontiguousarray(f, np.float32), learn, np.float32(self.rate))
         self._mean, self._count = mean, count
