@@ -270,7 +270,7 @@ def test_one_camera_masks_with_the_plate_alone_where_two_need_both_masks_to_agre
     assert smaller[1] == 0 and smaller[0] > 0  # MOG2 does absorb part of the player
 
 
-def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(
+def test_the_body_is_judged_by_the_shirt_anchors_not_the_heads_found(
     tmp_path: Path, lead_in_capture: Path
 ) -> None:
     from bodyplay.capture.frames import FrameSet
@@ -278,6 +278,7 @@ def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(
     from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
     from bodyplay.trackers.colorshirt.bodyselect import reprojection_residual
     from bodyplay.trackers.colorshirt.cues import HEAD_PATCH
+    from bodyplay.trackers.colorshirt.ik import PatchAnchors
 
     opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),
                              body="m_slim", arm_selection_frames=0)
@@ -294,12 +295,16 @@ def test_two_cameras_judge_the_body_with_the_heads_found_one_camera_without(
                     continue
                 anchors = d["anchors"]
                 assert HEAD_PATCH in anchors.patch  # the head is fitted either way
+                shirt = anchors.patch != HEAD_PATCH
                 size = {v.index: v.shirt_scale / v.window.scale for v, _, _ in d["observed"]}
                 size_px = np.array([size[int(c)] for c in anchors.camera])
                 with_head = reprojection_residual(tracker.solver, r.pose, anchors, size_px)
-                if ncam == 2:
-                    assert d["residual"] == pytest.approx(with_head)
-                else:
-                    assert d["residual"] != pytest.approx(with_head)
+                shirt_only = PatchAnchors(*(getattr(anchors, f)[shirt] for f in
+                                            ("node", "local", "camera", "target", "sigma",
+                                             "patch")))
+                without = reprojection_residual(tracker.solver, r.pose, shirt_only,
+                                                size_px[shirt])
+                assert d["residual"] == pytest.approx(without)
+                assert d["residual"] != pytest.approx(with_head)
                 checked += 1
         assert checked >= 10

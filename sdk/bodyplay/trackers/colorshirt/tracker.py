@@ -413,10 +413,10 @@ class ColorShirtTracker:
                                      turn_std=self._turn_std())
         size = {v.index: v.shirt_scale / v.window.scale for v in views}
         self.diagnostics["anchors"] = anchors
-        # the residual that judges the body: one camera cannot place a head in depth
-        judged = anchors if len(views) > 1 else shirt_only
-        size_px = np.array([size[int(c)] for c in judged.camera], dtype=np.float64)
-        resid = reprojection_residual(self.solver, q, judged, size_px)
+        # the residual that judges the body (and a good fit): the shirt's anchors only,
+        # the heads found are no measure of a preset (its neck's length is generic)
+        size_px = np.array([size[int(c)] for c in shirt_only.camera], dtype=np.float64)
+        resid = reprojection_residual(self.solver, q, shirt_only, size_px)
         self.diagnostics["residual"] = resid
         return BodyFit(q, {int(p) for p in anchors.patch}, resid, views, self.renderer,
                     self.cameras)
