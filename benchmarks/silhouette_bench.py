@@ -22,6 +22,9 @@ One camera, 640x480, synthetic captures of real clips rendered once into --work
 * ``--tune``: instead, the nine tune captures (:data:`TUNE`) the settings are chosen
   on, median / worst / mean of their clip medians; ``--set NAME=VALUE`` tries an
   option (as ``bodyplay track --set``).
+* ``--poses FILE.npz`` saves every capture's joints per frame, ``--compare BASE.npz``
+  prints the largest joint difference against such a file of another commit (0 m and
+  0 frames: a speed change left the output identical to the bit).
 
     .venv/bin/python benchmarks/silhouette_bench.py [--quick] [--overlays docs/media]
     nice .venv/bin/python benchmarks/silhouette_bench.py --tune --set arm_stay=1
@@ -40,6 +43,7 @@ from typing import Any
 
 import cv2
 import numpy as np
+from numpy.typing import NDArray
 
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.jsonl import read_pose_jsonl
@@ -94,11 +98,13 @@ def track(folder: Path, tracker: Any) -> dict[str, Any]:
     truth = read_pose_jsonl(folder / "truth.jsonl")
     src = open_source(folder)
     errs, upper, ms, found, n = [], [], [], 0, 0
+    joints: list[NDArray[np.float64]] = []
     stages: dict[str, list[float]] = {}
     with src:
         for fs in src:
             r = tracker.process(FrameSet(fs.frames[:1], fs.t, fs.index))
             ms.append(r.ms)
+            joints.append(np.where(r.found, np.asarray(r.joints, np.float64), np.nan))
             for k, v in r.extras.get("stages", {}).items():
                 stages.setdefault(k, []).append(1000 * v)
             T = truth.joints[fs.index]
@@ -115,7 +121,29 @@ def track(folder: Path, tracker: Any) -> dict[str, Any]:
     E = np.array(errs)
     frame_err = np.nanmean(E, axis=1)
     return {"frame_err": frame_err, "upper": np.array(upper), "ms": np.array(ms),
-            "found": found / max(n, 1), "stages": stages, "frames": n}
+            "found": found / max(n, 1), "stages": stages, "frames": n,
+            "joints": np.array(joints, np.float64)}
+
+
+def compare_poses(new: dict[str, NDArray[np.float64]], old: dict[str, NDArray[np.float64]]
+                  ) -> str:
+    """Per capture in both, the largest joint difference (m) and the frames whose
+    found/lost state differs: 0 and 0 when a change left the poses identical."""
+    lines = []
+    for key in sorted(set(new) & set(old)):
+        a, b = new[key], old[key]
+        if a.shape != b.shape:
+            lines.append(f"{key}: {len(a)} frames against {len(b)}")
+            continue
+        state = int(np.count_nonzero((np.isnan(a) != np.isnan(b)).any(axis=(1, 2))))
+        both = np.isfinite(a) & np.isfinite(b)
+        diff = float(np.max(np.abs(a - b)[both])) if both.any() else 0.0
+        lines.append(f"{key}: max joint difference {diff:.3g} m, joints reported differ on "
+                     f"{state} of {len(a)} frames")
+    missing = sorted(set(old) - set(new))
+    if missing:
+        lines.append(f"not run here: {', '.join(missing)}")
+    return "\n".join(lines)
 
 
 def silhouette_tracker(folder: Path, tree: Any, options: SilhouetteOptions | None = None) -> Any:
@@ -193,6 +221,10 @@ def main(argv: list[str] | None = None) -> int:
                    help="a silhouette option, as `bodyplay track --set` (repeatable)")
     p.add_argument("--real-frames", type=int, default=300)
     p.add_argument("--overlays", help="folder for the real-footage overlay videos")
+    p.add_argument("--poses", help="write every capture's joints per frame to this .npz, "
+                   "to check that a speed change left them identical")
+    p.add_argument("--compare", help="a --poses .npz of another commit: print the largest "
+                   "joint difference of every capture against it")
     args = p.parse_args(argv)
     work = Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
@@ -221,6 +253,7 @@ def main(argv: list[str] | None = None) -> int:
         groups = {k: v[:1] for k, v in groups.items()}
     all_ms: list[float] = []
     stages: dict[str, list[float]] = {}
+    poses: dict[str, NDArray[np.float64]] = {}
     print("\n| clips | clip | MPJPE 17 joints median / mean (cm) | frames with joints | "
           "color shirt upper body (cm) | silhouette upper body (cm) |")
     print("|---|---|---|---|---|---|")
@@ -229,6 +262,7 @@ def main(argv: list[str] | None = None) -> int:
         for clip, start, body in clips:
             folder = capture(work, clip, start, args.seconds, body=body)
             res = track(folder, silhouette_tracker(folder, tree, opts))
+            poses[folder.name] = res["joints"]
             all_ms += list(res["ms"][1:])
             for k, v in res["stages"].items():
                 stages.setdefault(k, []).extend(v)
@@ -248,6 +282,7 @@ def main(argv: list[str] | None = None) -> int:
         occ_clip = TEST[0]
         folder = capture(work, occ_clip, 0.0, args.seconds, occlude="2:1")
         res = track(folder, silhouette_tracker(folder, tree, opts))
+        poses[folder.name] = res["joints"]
         k = recovery(res, 2.0, 1.0)
         print(f"\nrecovery: {occ_clip} with --occlude 2:1: error within 1.2x its median "
               f"({100 * np.nanmedian(res['frame_err']) * 1.2:.1f} cm) {k} frames after the "
@@ -260,6 +295,11 @@ def main(argv: list[str] | None = None) -> int:
               f"{k} {v:.1f} ({100 * v / total:.0f}%)" for k, v in share.items()))
     print(f"peak memory (this process, all trackers): "
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    if args.poses:
+        np.savez_compressed(args.poses, **poses)
+    if args.compare:
+        print("\nidentity against " + args.compare + ":\n"
+              + compare_poses(poses, dict(np.load(args.compare))))
     p2s = DATA / "video" / "pose2sim_single"
     if p2s.is_dir() and args.real_frames > 0 and not args.tune:
         from bodyplay.capture.external import import_capture
