@@ -37,7 +37,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_INDEX
-from bodyplay.body.skeleton import NODE_NAMES, Skeleton
+from bodyplay.body.rotations import rodrigues_into
+from bodyplay.body.skeleton import NODE_NAMES, NODE_PARENTS, Skeleton
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.silhouette.recombine import (
     LIMB_GROUPS,
@@ -86,6 +87,43 @@ def arm_atlas(skeleton: Skeleton, sources: list[NDArray[np.float64]], count: int
         chosen[k] = int(np.argmax(d))
         np.minimum(d, np.sum((X - X[chosen[k]]) ** 2, axis=1), out=d)
     return q[chosen][:, cols]
+
+
+@numba.njit(cache=True)
+def _chain_positions(top, rotvecs, offsets, nodes, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """World positions of a chain's nodes for many rotations of its joints, the
+    arithmetic of the skeleton's forward kinematics (``_fk_pose``) node for node.
+
+    ``top``: the 4x4 world transform of the chain's parent (the same for every
+    candidate); ``nodes``: the chain's node indices, each the parent of the next;
+    ``rotvecs`` (N, 3 * (len(nodes) - 1)): the rotation vectors of all but the last;
+    ``out`` (N, len(nodes) - 1, 3): the positions of all but the first (its
+    position is fixed by ``top``; the last node's rotation moves nothing read)."""
+    R = np.empty((3, 3))
+    G = np.empty((3, 4))
+    H = np.empty((3, 4))
+    m = nodes.shape[0]
+    for k in range(rotvecs.shape[0]):
+        for a in range(3):
+            for b in range(4):
+                G[a, b] = top[a, b]
+        for c in range(m - 1):
+            i = nodes[c]
+            ox, oy, oz = offsets[i, 0], offsets[i, 1], offsets[i, 2]
+            rodrigues_into(rotvecs[k, 3 * c], rotvecs[k, 3 * c + 1], rotvecs[k, 3 * c + 2], R)
+            for a in range(3):
+                g0, g1, g2 = G[a, 0], G[a, 1], G[a, 2]
+                for b in range(3):
+                    H[a, b] = g0 * R[0, b] + g1 * R[1, b] + g2 * R[2, b]
+                H[a, 3] = G[a, 3] + (g0 * ox + g1 * oy + g2 * oz)
+            for a in range(3):
+                for b in range(4):
+                    G[a, b] = H[a, b]
+            # the next node's position: this node's transform applied to its offset
+            j = nodes[c + 1]
+            px, py, pz = offsets[j, 0], offsets[j, 1], offsets[j, 2]
+            for a in range(3):
+                out[k, c, a] = G[a, 3] + (G[a, 0] * px + G[a, 1] * py + G[a, 2] * pz)
 
 
 @numba.njit(cache=True)
@@ -234,6 +272,13 @@ class ArmFitter:
         self.atlas = (np.asarray(atlas, np.float64), right[:, self.cols[1]].copy())
         self.chain = tuple(tuple(NODE_NAMES.index(f"{s}_{n}") for n in
                                  ("shoulder", "elbow", "wrist")) for s in ("l", "r"))
+        # the candidates' arm chains (clavicle to wrist) hang from the neck: only
+        # those nodes are moved per candidate (:func:`_chain_positions`)
+        self._arm_nodes = tuple(np.array([NODE_NAMES.index(f"{s}_{n}") for n in
+                                          ("clavicle", "shoulder", "elbow", "wrist")], np.int64)
+                                for s in ("l", "r"))
+        self._arm_top = tuple(NODE_PARENTS[int(n[0])] for n in self._arm_nodes)
+        self._arm_rot = tuple(np.ascontiguousarray(a[:, :9]) for a in self.atlas)
         self.joints = tuple(tuple(JOINT_INDEX[f"{s}_{n}"] for n in ("shoulder", "elbow", "wrist"))
                             for s in ("l", "r"))
         self.hand = _HAND
@@ -262,7 +307,8 @@ class ArmFitter:
         sk = self.skeleton
         q = np.asarray(pose, np.float64).copy()
         body = (np.asarray(template) > 0).astype(np.uint8)
-        own_nodes = sk.node_positions(q[None])[0] - origin
+        frames = sk.forward(q[None])[0]
+        own_nodes = frames[:, :3, 3] - origin
         refs = []
         for s in (0, 1):
             ref = np.asarray(reference)[list(self.joints[s])][None]
@@ -277,9 +323,10 @@ class ArmFitter:
         replaced, gains = [False, False], [0.0, 0.0]
         cost64 = np.ascontiguousarray(cost, np.float64)
         for s in (0, 1):
-            cand = np.tile(q, (len(self.atlas[s]), 1))
-            cand[:, self.cols[s]] = self.atlas[s]
-            nodes = sk.node_positions(cand)[:, list(self.chain[s][:3])] - origin
+            nodes = np.empty((len(self.atlas[s]), 3, 3))
+            _chain_positions(frames[self._arm_top[s]], self._arm_rot[s], sk.offsets,
+                             self._arm_nodes[s], nodes)
+            nodes -= origin
             chains = np.concatenate([refs[s], nodes])
             px = self._pixels(chains, shift)
             sums = np.empty(len(chains))
@@ -292,7 +339,7 @@ class ArmFitter:
                 self.debug.append((s, body.copy(), px[0].copy(), px[k].copy(), sums[0], sums[k],
                                    move[k]))
             if k > 0 and gain > self.margin:
-                q[self.cols[s]] = cand[k - 1, self.cols[s]]
+                q[self.cols[s]] = self.atlas[s][k - 1]
                 replaced[s] = True
                 gains[s] = gain
         return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
