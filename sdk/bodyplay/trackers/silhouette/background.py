@@ -88,15 +88,30 @@ from bodyplay.trackers.silhouette.options import BackgroundOptions
 __all__ = ["BackgroundModel", "Silhouette", "normalized_color"]
 
 
+@numba.njit(cache=True, nogil=True)
+def _normalized(image, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    h, w = image.shape[:2]
+    off = np.float32(30.0)
+    one = np.float32(1.0)
+    third = np.float32(1.0 / 765.0)
+    for i in range(h):
+        for j in range(w):
+            r = np.float32(image[i, j, 0])
+            g = np.float32(image[i, j, 1])
+            s = r + g + np.float32(image[i, j, 2])
+            inv = one / (s + off)
+            out[i, j, 0] = r * inv
+            out[i, j, 1] = g * inv
+            out[i, j, 2] = s * third
+
+
 def normalized_color(image: NDArray[np.uint8]) -> NDArray[np.float32]:
-    """(H, W, 3) RGB -> (H, W, 3) chromaticities r, g and intensity in 0..1."""
-    f = image.astype(np.float32)
-    s = f.sum(axis=2)
-    inv = 1.0 / (s + 30.0)  # the offset keeps dark pixels' chromaticity from exploding
-    out = np.empty(f.shape, np.float32)
-    out[..., 0] = f[..., 0] * inv
-    out[..., 1] = f[..., 1] * inv
-    out[..., 2] = s * np.float32(1.0 / 765.0)
+    """(H, W, 3) RGB -> (H, W, 3) chromaticities r, g and intensity in 0..1: r = R / (R +
+    G + B + 30), g likewise (the offset keeps dark pixels' chromaticity from
+    exploding), intensity (R + G + B) / 765; float32 throughout, one pass (numba)."""
+    img = np.ascontiguousarray(image, np.uint8)
+    out = np.empty(img.shape, np.float32)
+    _normalized(img, out)
     return out
 
 
