@@ -44,19 +44,51 @@ __all__ = [
 ]
 
 
+@numba.njit(cache=True, nogil=True)
+def _ridge(d, mask, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """:func:`shape_skeleton`'s test for every pixel (outside the image counts 0)."""
+    h, w = d.shape
+    for i in range(h):
+        for j in range(w):
+            out[i, j] = 0
+            c = d[i, j]
+            if not (mask[i, j] > 0 and c >= 1.0):
+                continue
+            for di, dj in ((0, 1), (1, 0), (1, 1), (1, -1)):  # the four directions
+                ia, ja, ib, jb = i - di, j - dj, i + di, j + dj
+                a = d[ia, ja] if 0 <= ia < h and 0 <= ja < w else np.float32(0.0)
+                b = d[ib, jb] if 0 <= ib < h and 0 <= jb < w else np.float32(0.0)
+                if c >= a and c >= b and (c > a or c > b):
+                    out[i, j] = 1
+                    break
+
+
 def shape_skeleton(dt_inside: NDArray[np.float32], mask: NDArray[np.uint8]) -> NDArray[np.uint8]:
     """The ridge of the inner distance transform: pixels of the silhouette whose
     distance is a local maximum along at least one of the four directions."""
-    d = np.pad(dt_inside, 1, mode="constant")
-    c = d[1:-1, 1:-1]
-    ridge = np.zeros(c.shape, bool)
-    for (a0, a1), (b0, b1) in (((1, 0), (1, 2)), ((0, 1), (2, 1)), ((0, 0), (2, 2)),
-                               ((0, 2), (2, 0))):
-        pa = d[a0 : a0 + c.shape[0], a1 : a1 + c.shape[1]]
-        pb = d[b0 : b0 + c.shape[0], b1 : b1 + c.shape[1]]
-        ridge |= (c >= pa) & (c >= pb) & ((c > pa) | (c > pb))
-    ridge &= (mask > 0) & (c >= 1.0)
-    return ridge.astype(np.uint8)
+    out = np.empty(np.shape(dt_inside), np.uint8)
+    _ridge(np.ascontiguousarray(dt_inside, np.float32), np.ascontiguousarray(mask), out)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _terms(fg, d_in, d_skl, d_out, beta, weight, cost, integral):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """W, A = D(S) - W and A's horizontal integral image, float32 as the numpy
+    expressions they replace (the integral accumulated in float64, left to right)."""
+    h, w = fg.shape
+    tiny = np.float32(1e-6)
+    for i in range(h):
+        acc = 0.0
+        integral[i, 0] = 0.0
+        for j in range(w):
+            wt = np.float32(0.0)
+            if fg[i, j] > 0:
+                wt = (beta * d_in[i, j]) / max(d_in[i, j] + d_skl[i, j], tiny)
+            weight[i, j] = wt
+            a = d_out[i, j] - wt
+            cost[i, j] = a
+            acc += np.float64(a)
+            integral[i, j + 1] = acc
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,11 +123,10 @@ def distance_maps(foreground: NDArray[np.uint8], unknown: NDArray[np.uint8] | No
         d_skl = np.asarray(cv2.distanceTransform(1 - skl, cv2.DIST_L2, 5), np.float32)
     else:
         d_skl = np.zeros(fg.shape, np.float32)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        W = np.where(fg > 0, beta * d_in / np.maximum(d_in + d_skl, 1e-6), 0.0).astype(np.float32)
-    A = (d_out - W).astype(np.float32)
-    integ = np.zeros((A.shape[0], A.shape[1] + 1), np.float64)
-    np.cumsum(A, axis=1, out=integ[:, 1:])
+    W = np.empty(fg.shape, np.float32)
+    A = np.empty(fg.shape, np.float32)
+    integ = np.empty((A.shape[0], A.shape[1] + 1), np.float64)
+    _terms(fg, d_in, d_skl, d_out, np.float32(beta), W, A, integ)
     return DistanceMaps(A, float(W.sum(dtype=np.float64)), int(A.size), integ, W)
 
 
