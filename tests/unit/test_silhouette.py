@@ -659,3 +659,31 @@ def test_hierarchy_keeps_clip_poses_past_the_joint_limits_only_when_clamp_is_off
         past.append(float(np.max(np.maximum(lo - poses, poses - hi))))
         assert ("clamp" in dict(opts.key_items())) is (not clamp)  # old caches stay valid
     assert past[0] <= 1e-9 and past[1] > 0.1
+
+
+def test_dilate_disc_sets_the_pixels_opencvs_ellipse_dilation_sets() -> None:
+    import cv2
+
+    from bodyplay.trackers.silhouette.window import dilate_disc
+
+    rng = np.random.default_rng(4)
+    for shape, share, radius in (((240, 320), 0.001, 28), ((120, 160), 0.05, 3),
+                                 ((60, 80), 0.0, 7), ((5, 1), 0.5, 12), ((240, 320), 0.3, 1)):
+        mask = (rng.random(shape) < share).astype(np.uint8)
+        mask[shape[0] // 3: shape[0] // 2, shape[1] // 4: shape[1] // 3] = 1
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1,) * 2)
+        np.testing.assert_array_equal(dilate_disc(mask, radius), cv2.dilate(mask, k))
+    np.testing.assert_array_equal(dilate_disc(np.zeros((9, 9), np.uint8), 4), 0)
+
+
+def test_normalized_color_is_chromaticity_over_the_offset_sum_and_intensity() -> None:
+    from bodyplay.trackers.silhouette.background import normalized_color
+
+    img = np.array([[[0, 0, 0], [255, 255, 255], [200, 40, 10]]], np.uint8)
+    out = normalized_color(img)
+    assert out.dtype == np.float32 and out.shape == img.shape
+    f = img.astype(np.float32)
+    s = f.sum(axis=2)
+    np.testing.assert_array_equal(out[..., 0], f[..., 0] * (1.0 / (s + 30.0)))
+    np.testing.assert_array_equal(out[..., 1], f[..., 1] * (1.0 / (s + 30.0)))
+    np.testing.assert_array_equal(out[..., 2], s * np.float32(1.0 / 765.0))
