@@ -148,6 +148,14 @@ def score_dense(maps: DistanceMaps, templates: NDArray[np.float32]) -> NDArray[n
     return (templates @ a + maps.base).astype(np.float64) / maps.area
 
 
+@numba.njit(cache=True, nogil=True)
+def _fill_masks(offsets, row, x0, x1, index, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    for k in range(index.shape[0]):
+        i = index[k]
+        for j in range(offsets[i], offsets[i + 1]):
+            out[k, row[j], x0[j]:x1[j]] = 1
+
+
 @dataclass(frozen=True, eq=False)
 class TemplateRuns:
     """Many template masks of one size as horizontal runs (the paper's contour pairs).
@@ -175,10 +183,7 @@ class TemplateRuns:
         """Decode templates back to (N, H, W) 0/1 masks."""
         idx = np.arange(len(self)) if index is None else np.asarray(index)
         out = np.zeros((len(idx), self.height, self.width), np.uint8)
-        for k, i in enumerate(idx):
-            a, b = self.offsets[i], self.offsets[i + 1]
-            for r, s, e in zip(self.row[a:b], self.x0[a:b], self.x1[a:b], strict=True):
-                out[k, r, s:e] = 1
+        _fill_masks(self.offsets, self.row, self.x0, self.x1, idx.astype(np.int64), out)
         return out
 
 
