@@ -141,3 +141,34 @@ def test_capsule_costs_sum_every_pixel_a_capsule_covers_outside_the_body() -> No
             inside |= (xs - a[0] - t * d[0]) ** 2 + (ys - a[1] - t * d[1]) ** 2 <= radii[j] ** 2
         expected = cost[inside & (body == 0)].sum()
         assert out[k] == pytest.approx(expected, rel=1e-9, abs=1e-9)
+
+
+def test_bounded_capsule_costs_skip_only_arms_that_cannot_be_the_cheapest() -> None:
+    """The bounded kernel gives every candidate it scores the plain kernel's very sum,
+    skips (inf) only candidates dearer than the cheapest, and so picks the same arm."""
+    from bodyplay.trackers.silhouette.armfit import _capsule_costs, _capsule_costs_bounded
+
+    rng = np.random.default_rng(5)
+    h, w = 120, 160
+    cost = np.where(rng.random((h, w)) < 0.2, -rng.random((h, w)) * 5.0,
+                    rng.random((h, w)) * 20.0)
+    body = (rng.random((h, w)) < 0.2).astype(np.uint8)
+    negative = np.zeros((h, w + 1))
+    np.cumsum(np.where(body > 0, 0.0, np.minimum(cost, 0.0)), axis=1, out=negative[:, 1:])
+    shoulder = rng.uniform([40.0, 30.0], [120.0, 90.0], (300, 1, 2))
+    pts = shoulder + np.cumsum(rng.normal(0.0, 12.0, (300, 4, 2)), axis=1) - rng.normal(
+        0.0, 12.0, (300, 1, 2))
+    pts[7, 1] = np.nan  # a candidate that cannot be drawn
+    radii = np.array([2.8, 2.2, 1.9])
+    extra = 3.0 * np.linalg.norm(pts[:, 1:] - pts[:1, 1:], axis=2).sum(axis=1)
+    extra[7] = 0.0
+    plain, bounded = np.empty(len(pts)), np.empty(len(pts))
+    _capsule_costs(pts, radii, cost, body, plain)
+    _capsule_costs_bounded(pts, radii, cost, body, extra, np.argsort(extra, kind="stable"),
+                           negative, bounded)
+    scored = np.isfinite(bounded)
+    assert 0 < scored.sum() < len(pts)  # it does skip, and scores some
+    np.testing.assert_array_equal(bounded[scored], plain[scored])
+    best = np.min(plain + extra)
+    assert np.all(plain[~scored] + extra[~scored] > best)
+    assert np.argmin(bounded + extra) == np.argmin(plain + extra)

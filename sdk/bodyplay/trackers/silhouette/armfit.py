@@ -127,82 +127,137 @@ def _chain_positions(top, rotvecs, offsets, nodes, out):  # type: ignore[no-unty
 
 
 @numba.njit(cache=True)
+def _capsule_setup(pts, k, radii, h, w, box, bx0, bx1, by0, by1, sa):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Candidate ``k``'s box (x0, y0, x1, y1, clipped to the image) into ``box``, and
+    per segment its capsule box and (start, direction, squared length, squared
+    radius) into ``sa``; False when a point is not finite."""
+    x0 = w
+    x1 = -1
+    y0 = h
+    y1 = -1
+    for j in range(4):
+        px = pts[k, j, 0]
+        py = pts[k, j, 1]
+        if not (px == px and py == py):
+            return False
+        x0 = min(x0, int(np.floor(px - radii[0])))
+        x1 = max(x1, int(np.ceil(px + radii[0])))
+        y0 = min(y0, int(np.floor(py - radii[0])))
+        y1 = max(y1, int(np.ceil(py + radii[0])))
+    box[0] = max(x0, 0)
+    box[1] = max(y0, 0)
+    box[2] = min(x1, w - 1)
+    box[3] = min(y1, h - 1)
+    for j in range(3):
+        r = radii[j]
+        sa[j, 0] = pts[k, j, 0]
+        sa[j, 1] = pts[k, j, 1]
+        sa[j, 2] = pts[k, j + 1, 0] - sa[j, 0]
+        sa[j, 3] = pts[k, j + 1, 1] - sa[j, 1]
+        sa[j, 4] = sa[j, 2] * sa[j, 2] + sa[j, 3] * sa[j, 3]
+        sa[j, 5] = r * r
+        bx0[j] = int(np.floor(min(pts[k, j, 0], pts[k, j + 1, 0]) - r))
+        bx1[j] = int(np.ceil(max(pts[k, j, 0], pts[k, j + 1, 0]) + r))
+        by0[j] = int(np.floor(min(pts[k, j, 1], pts[k, j + 1, 1]) - r))
+        by1[j] = int(np.ceil(max(pts[k, j, 1], pts[k, j + 1, 1]) + r))
+    return True
+
+
+@numba.njit(cache=True)
+def _row_span(y, box, bx0, bx1, by0, by1):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The columns of row ``y`` a candidate's pixels can be in: the span of the
+    capsule boxes holding the row, within the candidate's box (empty: lo > hi)."""
+    rx0 = box[2] + 1
+    rx1 = box[0] - 1
+    for j in range(3):
+        if by0[j] <= y <= by1[j]:
+            rx0 = min(rx0, bx0[j])
+            rx1 = max(rx1, bx1[j])
+    return max(rx0, box[0]), min(rx1, box[2])
+
+
+@numba.njit(cache=True)
+def _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """One candidate's sum (set up by :func:`_capsule_setup`): each pixel tested only
+    against the segments whose box holds it, a row only over their boxes' span (the
+    same pixels in the same order as the whole box, so the same sum)."""
+    s = 0.0
+    for y in range(box[1], box[3] + 1):
+        rx0, rx1 = _row_span(y, box, bx0, bx1, by0, by1)
+        for x in range(rx0, rx1 + 1):
+            if body[y, x]:
+                continue
+            inside = False
+            for j in range(3):
+                if not (bx0[j] <= x <= bx1[j] and by0[j] <= y <= by1[j]):
+                    continue
+                ax, ay, bx, by, ll = sa[j, 0], sa[j, 1], sa[j, 2], sa[j, 3], sa[j, 4]
+                t = 0.0
+                if ll > 1e-12:
+                    t = ((x - ax) * bx + (y - ay) * by) / ll
+                    t = min(1.0, max(0.0, t))
+                dx = x - ax - t * bx
+                dy = y - ay - t * by
+                if dx * dx + dy * dy <= sa[j, 5]:
+                    inside = True
+                    break
+            if inside:
+                s += cost[y, x]
+    return s
+
+
+@numba.njit(cache=True)
 def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Per candidate: sum of ``cost`` over pixels within radius of one of its three
     segments (pts[k, 0..3] the chain shoulder, elbow, wrist, finger tips) and not in
-    ``body``."""
+    ``body`` (1e9 for a candidate with a point not finite)."""
     h, w = cost.shape
+    box = np.empty(4, np.int64)
     bx0 = np.empty(3, np.int64)
     bx1 = np.empty(3, np.int64)
     by0 = np.empty(3, np.int64)
     by1 = np.empty(3, np.int64)
-    sa = np.empty((3, 6))  # per segment: start, direction, squared length and radius
+    sa = np.empty((3, 6))
     for k in range(pts.shape[0]):
-        x0 = w
-        x1 = -1
-        y0 = h
-        y1 = -1
-        ok = True
-        for j in range(4):
-            px = pts[k, j, 0]
-            py = pts[k, j, 1]
-            if not (px == px and py == py):
-                ok = False
-            else:
-                x0 = min(x0, int(np.floor(px - radii[0])))
-                x1 = max(x1, int(np.ceil(px + radii[0])))
-                y0 = min(y0, int(np.floor(py - radii[0])))
-                y1 = max(y1, int(np.ceil(py + radii[0])))
-        if not ok:
+        if _capsule_setup(pts, k, radii, h, w, box, bx0, bx1, by0, by1, sa):
+            out[k] = _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body)
+        else:
             out[k] = 1e9
-            continue
-        x0 = max(x0, 0)
-        y0 = max(y0, 0)
-        x1 = min(x1, w - 1)
-        y1 = min(y1, h - 1)
-        # each segment's own capsule box: a pixel is tested against the segments
-        # whose box holds it, and a row only over its boxes' span (the same pixels
-        # in the same order as the whole box, so the same sum)
-        for j in range(3):
-            r = radii[j]
-            sa[j, 0] = pts[k, j, 0]
-            sa[j, 1] = pts[k, j, 1]
-            sa[j, 2] = pts[k, j + 1, 0] - sa[j, 0]
-            sa[j, 3] = pts[k, j + 1, 1] - sa[j, 1]
-            sa[j, 4] = sa[j, 2] * sa[j, 2] + sa[j, 3] * sa[j, 3]
-            sa[j, 5] = r * r
-            bx0[j] = int(np.floor(min(pts[k, j, 0], pts[k, j + 1, 0]) - r))
-            bx1[j] = int(np.ceil(max(pts[k, j, 0], pts[k, j + 1, 0]) + r))
-            by0[j] = int(np.floor(min(pts[k, j, 1], pts[k, j + 1, 1]) - r))
-            by1[j] = int(np.ceil(max(pts[k, j, 1], pts[k, j + 1, 1]) + r))
-        s = 0.0
-        for y in range(y0, y1 + 1):
-            rx0 = x1 + 1
-            rx1 = x0 - 1
-            for j in range(3):
-                if by0[j] <= y <= by1[j]:
-                    rx0 = min(rx0, bx0[j])
-                    rx1 = max(rx1, bx1[j])
-            for x in range(max(rx0, x0), min(rx1, x1) + 1):
-                if body[y, x]:
-                    continue
-                inside = False
-                for j in range(3):
-                    if not (bx0[j] <= x <= bx1[j] and by0[j] <= y <= by1[j]):
-                        continue
-                    ax, ay, bx, by, ll = sa[j, 0], sa[j, 1], sa[j, 2], sa[j, 3], sa[j, 4]
-                    t = 0.0
-                    if ll > 1e-12:
-                        t = ((x - ax) * bx + (y - ay) * by) / ll
-                        t = min(1.0, max(0.0, t))
-                    dx = x - ax - t * bx
-                    dy = y - ay - t * by
-                    if dx * dx + dy * dy <= sa[j, 5]:
-                        inside = True
-                        break
-                if inside:
-                    s += cost[y, x]
-        out[k] = s
+
+
+@numba.njit(cache=True)
+def _capsule_costs_bounded(pts, radii, cost, body, extra, order, negative, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """:func:`_capsule_costs` for the candidates that can still be the cheapest: in
+    ``order``, a candidate whose lower bound plus ``extra[k]`` exceeds the least
+    ``out + extra`` so far is skipped (``out[k]`` = inf); the others get the very
+    sum :func:`_capsule_costs` gives. The bound: over its rows' spans, the sum of
+    ``negative`` (per row, the running sum of min(cost, 0) outside ``body``, a
+    column longer than ``cost``), which no covered pixel set can undercut; skipping
+    asks it to exceed the best by a margin far above the rounding of either sum,
+    so a skipped candidate was never the cheapest (nor tied with it)."""
+    h, w = cost.shape
+    box = np.empty(4, np.int64)
+    bx0 = np.empty(3, np.int64)
+    bx1 = np.empty(3, np.int64)
+    by0 = np.empty(3, np.int64)
+    by1 = np.empty(3, np.int64)
+    sa = np.empty((3, 6))
+    best = np.inf
+    for i in range(order.shape[0]):
+        k = order[i]
+        if not _capsule_setup(pts, k, radii, h, w, box, bx0, bx1, by0, by1, sa):
+            out[k] = 1e9
+        else:
+            low = 0.0
+            for y in range(box[1], box[3] + 1):
+                rx0, rx1 = _row_span(y, box, bx0, bx1, by0, by1)
+                if rx0 <= rx1:
+                    low += negative[y, rx1 + 1] - negative[y, rx0]
+            if low + extra[k] > best + 1e-6 * (1.0 + abs(best) + abs(low)):
+                out[k] = np.inf
+                continue
+            out[k] = _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body)
+        best = min(best, out[k] + extra[k])
 
 
 @numba.njit(cache=True)
@@ -322,6 +377,8 @@ class ArmFitter:
                     body &= 1 - arm
         replaced, gains = [False, False], [0.0, 0.0]
         cost64 = np.ascontiguousarray(cost, np.float64)
+        negative = np.zeros((cost64.shape[0], cost64.shape[1] + 1))
+        np.cumsum(np.where(body > 0, 0.0, np.minimum(cost64, 0.0)), axis=1, out=negative[:, 1:])
         for s in (0, 1):
             nodes = np.empty((len(self.atlas[s]), 3, 3))
             _chain_positions(frames[self._arm_top[s]], self._arm_rot[s], sk.offsets,
@@ -329,10 +386,14 @@ class ArmFitter:
             nodes -= origin
             chains = np.concatenate([refs[s], nodes])
             px = self._pixels(chains, shift)
-            sums = np.empty(len(chains))
-            _capsule_costs(np.ascontiguousarray(px), self.radii, cost64, body, sums)
             move = np.linalg.norm(chains[:, 1:] - chains[:1, 1:], axis=2).sum(axis=1) / self.mpp
-            total = sums + self.stay * move
+            extra = self.stay * move
+            # candidates that cannot be the cheapest are skipped (their sum: inf);
+            # the reported arm first, then by their stay cost
+            sums = np.empty(len(chains))
+            _capsule_costs_bounded(np.ascontiguousarray(px), self.radii, cost64, body, extra,
+                                   np.argsort(extra, kind="stable"), negative, sums)
+            total = sums + extra
             k = int(np.argmin(total))
             gain = float(total[0] - total[k])
             if self.debug is not None:  # (arm, body mask, tree's arm px, best px, costs, move)
