@@ -123,9 +123,10 @@ def distance_maps(foreground: NDArray[np.uint8], unknown: NDArray[np.uint8] | No
         d_skl = np.asarray(cv2.distanceTransform(1 - skl, cv2.DIST_L2, 5), np.float32)
     else:
         d_skl = np.zeros(fg.shape, np.float32)
-    W = np.empty(fg.shape, np.float32)
-    A = np.empty(fg.shape, np.float32)
-    integ = np.empty((A.shape[0], A.shape[1] + 1), np.float64)
+    h, w = fg.shape
+    W = np.empty((h, w), np.float32)
+    A = np.empty((h, w), np.float32)
+    integ = np.empty((h, w + 1), np.float64)
     _terms(fg, d_in, d_skl, d_out, np.float32(beta), W, A, integ)
     return DistanceMaps(A, float(W.sum(dtype=np.float64)), int(A.size), integ, W)
 
