@@ -131,6 +131,8 @@ class RoomPlate:
         """Pixels away from the player at the last :meth:`learn` (the light's gain)."""
         self.seen_alike: NDArray[np.bool_] | None = None
         """This frame's pixels another camera shows as the same room (None: no answer)."""
+        self._fg: tuple[NDArray[np.bool_] | None] | None = None
+        """This frame's :meth:`foreground`, once asked (None: not yet)."""
 
     @property
     def known(self) -> NDArray[np.bool_] | None:
@@ -144,7 +146,7 @@ class RoomPlate:
         """A new frame at the plate's resolution (RGB); the plate follows the light.
         ``seen_alike``: pixels another camera shows as the same room, room this
         frame where the plate does not know it."""
-        self.seen_alike = seen_alike
+        self.seen_alike, self._fg = seen_alike, None
         f = np.asarray(small, np.float32)
         if self._mean is None or self._mean.shape != f.shape:
             h, w = f.shape[:2]
@@ -169,7 +171,15 @@ class RoomPlate:
     def foreground(self) -> NDArray[np.bool_] | None:
         """This frame's pixels that may be the player: unlike the plate where it knows
         the room, else not seen alike by another camera. None while neither tells
-        (no mask)."""
+        (no mask). Computed once a frame (read-only)."""
+        if self._fg is None:
+            fg = self._foreground()
+            if fg is not None:
+                fg.flags.writeable = False
+            self._fg = (fg,)
+        return self._fg[0]
+
+    def _foreground(self) -> NDArray[np.bool_] | None:
         if self._small is None or self._mean is None:
             return None
         known = self.known
@@ -193,6 +203,7 @@ class RoomPlate:
         f, prev = self._small, self._prev
         if f is None or prev is None or self._mean is None:
             return
+        self._fg = None
         assert self._count is not None and self._run is not None and self._moved is not None
         still, self._run, known, moving = _stillness(
             np.ascontiguousarray(f, np.float32), np.ascontiguousarray(prev, np.float32),
@@ -200,8 +211,9 @@ class RoomPlate:
         self._prev = f
         if moving / known < 0.5 if known else True:
             # a pixel that moves is forgotten (most of the room at once: the light)
-            self._count[~still] = 0
-            self._moved |= ~still
+            moved = ~still
+            self._count[moved] = 0
+            self._moved |= moved
         if person is None and not everywhere:
             self._away = None
             return
@@ -214,6 +226,5 @@ class RoomPlate:
             return
         if person is None:  # an empty-room frame (``everywhere``)
             self.empty_room = learn if self.empty_room is None else self.empty_room | learn
-        mean, count = self._mean.copy(), self._count.copy()
-        _learn(mean, count, np.ascontiguousarray(f, np.float32), learn, np.float32(self.rate))
-        self._mean, self._count = mean, count
+        _learn(self._mean, self._count, np.ascontiguousarray(f, np.float32), learn,
+               np.float32(self.rate))
