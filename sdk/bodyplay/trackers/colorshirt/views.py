@@ -157,8 +157,9 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
     if not valid.any():
         return np.zeros_like(ids)
     main = int(np.argmax(np.where(valid, area, 0)))
-    ys, xs = np.nonzero(core * (labels == main))
-    extent = max(np.ptp(xs), np.ptp(ys))
+    body = sel & (labels == main)
+    rows, cols = np.flatnonzero(body.any(axis=1)), np.flatnonzero(body.any(axis=0))
+    extent = max(cols[-1] - cols[0], rows[-1] - rows[0])
     keep = valid & (area >= blob_fraction * area[main])
     sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
@@ -174,13 +175,12 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
             keep |= (nearest <= reach) & (valid | sleeve)
         if sleeve_reach > 0:
             # over the head: above the shirt's top and within its columns
-            over = (bottom < ys.min()) & (left >= xs.min()) & (right <= xs.max())
+            over = (bottom < rows[0]) & (left >= cols[0]) & (right <= cols[-1])
             # two forearms: two sleeve colors, each more than a few pixels
             two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
                 axis=1) >= 2
             candidate = (nearest <= sleeve_reach) & valid & two_sleeves & sleeve & over & ~keep
             if candidate.any():  # within reach of the raised upper arms, not the torso
-                body = sel & (labels == main)
                 on_sleeve = np.isin(ids, _SLEEVE_IDS)
                 torso_rows = np.nonzero((body & ~on_sleeve).any(axis=1))[0]
                 arm = body & on_sleeve
