@@ -52,6 +52,27 @@ def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.fl
 
 
 @numba.njit(cache=True, nogil=True)
+def _light_ratios(f: NDArray[np.float32], mean: NDArray[np.float32], count: NDArray[np.uint8],
+                  known_frames: int, away: NDArray[np.bool_], use_away: bool, step: int
+                  ) -> NDArray[np.float32]:  # pragma: no cover - compiled
+    """(N, 3) ``f / max(mean, 1)`` at every ``step``-th row and column's known pixels
+    (and ``away``, if ``use_away``), in row order."""
+    h, w = count.shape
+    out = np.empty((((h + step - 1) // step) * ((w + step - 1) // step), 3), np.float32)
+    one = np.float32(1.0)
+    n = 0
+    for y in range(0, h, step):
+        for x in range(0, w, step):
+            if count[y, x] < known_frames or (use_away and not away[y, x]):
+                continue
+            for k in range(3):
+                m = mean[y, x, k]
+                out[n, k] = f[y, x, k] / (m if m > one else one)
+            n += 1
+    return out[:n]
+
+
+@numba.njit(cache=True, nogil=True)
 def _stillness(f: NDArray[np.float32], prev: NDArray[np.float32], run: NDArray[np.uint8],
                count: NDArray[np.uint8], still: np.float32, known_frames: int
                ) -> tuple[NDArray[np.bool_], NDArray[np.uint8], int, int]:  # pragma: no cover
@@ -158,12 +179,12 @@ class RoomPlate:
             self._away = None
         self._small = f
         assert self._count is not None
-        sel = self._count[::3, ::3] >= self.known_frames  # every 3rd pixel's known
-        if self._away is not None:
-            sel &= self._away[::3, ::3]
-        if int(np.count_nonzero(sel)) > 100:
+        away = self._away
+        ratio = _light_ratios(f, self._mean, self._count, self.known_frames,  # every 3rd
+                              np.zeros((1, 1), bool) if away is None else away,
+                              away is not None, 3)
+        if len(ratio) > 100:
             # the median ratio: robust to a player standing where no pose says yet
-            ratio = f[::3, ::3][sel] / np.maximum(self._mean[::3, ::3][sel], 1.0)
             gain = np.clip(column_median(ratio), 0.05, 20.0).astype(np.float32)
             if np.any(np.abs(gain - 1.0) > 0.01):
                 self._mean *= gain
