@@ -39,6 +39,26 @@ def _alike(fa: NDArray[np.float32], warped: NDArray[np.float32], gain: NDArray[n
                 same[y, x] = True
 
 
+@numba.njit(cache=True, nogil=True)
+def _samples(fa: NDArray[np.float32], warped: NDArray[np.float32], step: int
+             ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:  # pragma: no cover
+    """Both images' colours at every ``step``-th row and column where the warp reached
+    (``warped`` >= 0), in row order."""
+    h, w = fa.shape[:2]
+    n_max = ((h + step - 1) // step) * ((w + step - 1) // step)
+    sa = np.empty((n_max, 3), np.float32)
+    sb = np.empty((n_max, 3), np.float32)
+    n = 0
+    for y in range(0, h, step):
+        for x in range(0, w, step):
+            if warped[y, x, 0] >= 0:
+                for k in range(3):
+                    sa[n, k] = fa[y, x, k]
+                    sb[n, k] = warped[y, x, k]
+                n += 1
+    return sa[:n], sb[:n]
+
+
 class CrossView:
     """The room seen alike by two cameras (see the module docstring), per camera pair.
 
@@ -116,8 +136,7 @@ class CrossView:
                 warped = np.asarray(cv2.warpPerspective(
                     fb, H, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                     borderMode=cv2.BORDER_CONSTANT, borderValue=(-1e4,) * 3), np.float32)
-                valid = warped[::4, ::4, 0] >= 0
-                sa, sb = fa[::4, ::4][valid], warped[::4, ::4][valid]
+                sa, sb = _samples(fa, warped, 4)
                 if len(sa) < 100:
                     continue
                 gain = column_median(sa + 1.0) / column_median(sb + 1.0)
