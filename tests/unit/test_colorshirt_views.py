@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids
+from bodyplay.trackers.colorshirt.views import WHITE_ID, clean_ids, nonzero_box
 
 RED, ORANGE, YELLOW, GREEN, CYAN, BLUE, PURPLE = 1, 2, 3, 5, 6, 7, 8
 
@@ -201,3 +201,12 @@ def test_options_reject_a_negative_prior_gain_power() -> None:
 
     with pytest.raises(ConfigError, match="prior_gain_power"):
         ColorShirtOptions(prior_gain_power=-1.0)
+
+
+def test_nonzero_box_is_the_bounds_of_np_nonzero() -> None:
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        mask = rng.random((int(rng.integers(1, 40)), int(rng.integers(1, 40)))) < 0.02
+        ys, xs = np.nonzero(mask)
+        expected = (xs.min(), ys.min(), xs.max(), ys.max()) if len(xs) else None
+        assert nonzero_box(mask) == expected

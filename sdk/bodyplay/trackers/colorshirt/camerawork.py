@@ -38,6 +38,7 @@ from bodyplay.trackers.colorshirt.views import (
     classify_camera,
     clean_ids,
     make_query,
+    nonzero_box,
     prior_penalty_slope,
 )
 from bodyplay.trackers.colorshirt.whitebalance import ReferenceIlluminations, white_balance_from_ids
@@ -77,9 +78,10 @@ def _image_box(cam: Camera, points: NDArray[np.float64]
 
 def _ids_box(view: CameraView) -> tuple[int, int, int, int]:
     """Image box of ``view``'s pixels classified as the shirt's colours (not white)."""
-    ys, xs = np.nonzero((view.ids > 0) & (view.ids != WHITE_ID))
-    lo = view.window.to_image(np.array([xs.min(), ys.min()], float))
-    hi = view.window.to_image(np.array([xs.max(), ys.max()], float) + 1.0)
+    box = nonzero_box((view.ids > 0) & (view.ids != WHITE_ID))
+    assert box is not None
+    lo = view.window.to_image(np.array(box[:2], float))
+    hi = view.window.to_image(np.array(box[2:], float) + 1.0)
     return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
 
@@ -299,9 +301,9 @@ class CameraWork:
         min_px = max(4, int(o.min_color_fraction * ids.size))
         if int(np.count_nonzero(counts >= min_px)) < o.min_colors:
             return None
-        ys, xs = np.nonzero(ids)
-        lo = np.array([xs.min(), ys.min()], float)
-        hi = np.array([xs.max(), ys.max()], float) + 1.0
+        box = nonzero_box(ids)
+        assert box is not None
+        lo, hi = np.array(box[:2], float), np.array(box[2:], float) + 1.0
         extent = float(np.max(hi - lo))
         view = CameraView(i, window, crop, cmask, W, ids, extent)
         facing = None
@@ -440,11 +442,12 @@ class CameraWork:
             win = CropWindow(0.0, 0.0, s, max(1, round(cam.width * s)),
                              max(1, round(cam.height * s)))
             sil = renderer.silhouette(verts, cam, win)
-            ys, xs = np.nonzero(sil)
-            if not len(ys):
+            box = nonzero_box(sil)
+            if box is None:
                 st.room.learn(None)
                 continue
-            r = max(2, int(round(self.options.room_margin * max(np.ptp(ys), np.ptp(xs)))))
+            r = max(2, int(round(self.options.room_margin
+                                 * max(box[3] - box[1], box[2] - box[0]))))
             grown = cv2.dilate(sil, cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
                                                               (2 * r + 1, 2 * r + 1)))
             person = cv2.resize(grown, (w, h), interpolation=cv2.INTER_NEAREST) > 0

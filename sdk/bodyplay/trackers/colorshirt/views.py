@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 
 __all__ = ["CameraState", "CameraView", "WHITE_ID", "WHITE_PATCHES", "classify_camera",
-           "clean_ids", "make_query", "prior_penalty_slope"]
+           "clean_ids", "make_query", "nonzero_box", "prior_penalty_slope"]
 
 _MAX_NOISE_GROWTH = 2.5
 """The noise-aware classification is kept unless it finds this many times the pixels
@@ -127,6 +127,16 @@ def _blob_reach(labels: NDArray[Any], sel: NDArray[np.bool_], gap: NDArray[Any],
     return nearest, bottom, left, right
 
 
+def nonzero_box(mask: NDArray[Any]) -> tuple[int, int, int, int] | None:
+    """``(x0, y0, x1, y1)``, the first and last column and row of a 2-D array's nonzero
+    entries (None: none); the bounds of ``np.nonzero``'s, without listing them."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    if not len(rows):
+        return None
+    cols = np.flatnonzero(mask.any(axis=0))
+    return int(cols[0]), int(rows[0]), int(cols[-1]), int(rows[-1])
+
+
 def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
               attach_fraction: float = 0.1,
               sleeve_attach: float = 0.0) -> NDArray[np.uint8]:
@@ -158,8 +168,10 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
         return np.zeros_like(ids)
     main = int(np.argmax(np.where(valid, area, 0)))
     body = sel & (labels == main)
-    rows, cols = np.flatnonzero(body.any(axis=1)), np.flatnonzero(body.any(axis=0))
-    extent = max(cols[-1] - cols[0], rows[-1] - rows[0])
+    box = nonzero_box(body)
+    assert box is not None
+    bx0, by0, bx1, by1 = box
+    extent = max(bx1 - bx0, by1 - by0)
     keep = valid & (area >= blob_fraction * area[main])
     sleeve = hist[:, _SLEEVE_IDS].sum(axis=1) >= 0.9 * np.maximum(area, 1)
     reach = int(attach_fraction * extent)
@@ -175,7 +187,7 @@ def clean_ids(ids: NDArray[np.uint8], blob_fraction: float,
             keep |= (nearest <= reach) & (valid | sleeve)
         if sleeve_reach > 0:
             # over the head: above the shirt's top and within its columns
-            over = (bottom < rows[0]) & (left >= cols[0]) & (right <= cols[-1])
+            over = (bottom < by0) & (left >= bx0) & (right <= bx1)
             # two forearms: two sleeve colors, each more than a few pixels
             two_sleeves = (hist[:, _SLEEVE_IDS] >= np.maximum(3, 0.03 * area)[:, None]).sum(
                 axis=1) >= 2
@@ -234,9 +246,9 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
     illumination after a light change) and classify the crop; ``st`` remembers ``W``.
     ``fg`` is the paper's "supposedly foreground" (the located window, masked).
     """
-    ys, xs = np.nonzero(fg)
-    if len(xs):  # the automatic search looks at the located window, mostly shirt
-        sub = (slice(ys.min(), ys.max() + 1), slice(xs.min(), xs.max() + 1))
+    box = nonzero_box(fg)
+    if box is not None:  # the automatic search looks at the located window, mostly shirt
+        sub = (slice(box[1], box[3] + 1), slice(box[0], box[2] + 1))
     else:
         sub = (slice(None), slice(None))
     sub_mask = None if mask is None else mask[sub]
