@@ -34,7 +34,7 @@ def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.fl
            learn: NDArray[np.bool_], rate: np.float32) -> None:  # pragma: no cover - compiled
     """In place, where ``learn``: the running mean moves towards ``f`` by
     ``max(1 / (count + 1), rate)`` and the count grows (at most 255)."""
-    h, w, c = mean.shape
+    h, w = count.shape
     one = np.float32(1.0)
     for y in range(h):
         for x in range(w):
@@ -44,7 +44,7 @@ def _learn(mean: NDArray[np.float32], count: NDArray[np.uint8], f: NDArray[np.fl
             a = one / (np.float32(n) + one)
             if a < rate:
                 a = rate
-            for k in range(c):
+            for k in range(3):  # RGB (a constant count: unrolled)
                 m = mean[y, x, k]
                 mean[y, x, k] = m + a * (f[y, x, k] - m)
             if n < 255:
