@@ -53,8 +53,9 @@ def color_means(
     image: NDArray[np.uint8], ids: NDArray[np.uint8], min_pixels: int = 15
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Mean raw RGB of each color in a color id map, and pixel counts (0 if too few)."""
-    lab = ids.reshape(-1).astype(np.int64)
-    px = image.reshape(-1, 3).astype(np.float64)
+    on = np.flatnonzero(ids)  # unclassified pixels only count towards id 0
+    lab = ids.reshape(-1)[on].astype(np.int64)
+    px = image.reshape(-1, 3)[on].astype(np.float64)
     counts = np.bincount(lab, minlength=NUM_COLORS + 1)[1 : NUM_COLORS + 1]
     sums = np.stack(
         [np.bincount(lab, weights=px[:, c], minlength=NUM_COLORS + 1) for c in range(3)], axis=1
