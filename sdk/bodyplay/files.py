@@ -39,12 +39,18 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["atomic_write", "save_cache", "load_cache", "CACHE_STAMP"]
+__all__ = ["atomic_write", "save_cache", "load_cache", "default_cache_dir", "CACHE_STAMP"]
 
 _log = logging.getLogger("bodyplay.files")
 
 CACHE_STAMP = "__bodyplay_cache__"
 """Name of the array in a cache ``.npz`` that holds its stamp (JSON, as uint8 bytes)."""
+
+
+def default_cache_dir() -> Path:
+    """``$BODYPLAY_CACHE`` or ``~/.cache/bodyplay``: where built caches live."""
+    env = os.environ.get("BODYPLAY_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "bodyplay"
 
 
 def _package_version() -> str:

@@ -11,7 +11,6 @@ everything that shapes it.
 from __future__ import annotations
 
 import hashlib
-import os
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from functools import cached_property
@@ -28,12 +27,12 @@ from bodyplay.body.skeleton import NODE_NAMES, Skeleton
 from bodyplay.body.skinning import SkinnedMesh
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
-from bodyplay.files import load_cache, save_cache
+from bodyplay.files import default_cache_dir, load_cache, save_cache
 from bodyplay.render.idmap import rasterize_ids
 
 __all__ = ["DatabaseOptions", "PoseDatabase", "Neighbours", "BlendedPose", "canonical_camera",
            "sample_database_poses", "build_database", "load_or_build_database",
-           "default_cache_dir", "shirt_color_face_ids", "mismatch", "blend_poses"]
+           "shirt_color_face_ids", "mismatch", "blend_poses"]
 
 _FORMAT_VERSION = 4
 _CACHE_KIND = "colorshirt_pose_database"
@@ -84,12 +83,6 @@ def canonical_camera() -> Camera:
     """The camera database poses are rendered from: 640x480, 60 degrees, 3 m away."""
     R, t = look_at((0.0, 1.25, 3.0), (0.0, 1.25, 0.0))
     return Camera.from_fov("canonical", 640, 480, 60.0, R, t)
-
-
-def default_cache_dir() -> Path:
-    """``$BODYPLAY_CACHE`` or ``~/.cache/bodyplay``."""
-    env = os.environ.get("BODYPLAY_CACHE")
-    return Path(env) if env else Path.home() / ".cache" / "bodyplay"
 
 
 def shirt_color_face_ids(mesh: SkinnedMesh) -> NDArray[np.uint8]:

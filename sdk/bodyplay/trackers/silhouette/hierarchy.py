@@ -432,7 +432,7 @@ def tree_key(options: HierarchyOptions) -> str:
 
 def tree_cache_path(options: HierarchyOptions, cache_dir: Path | None = None) -> Path:
     """Where the hierarchy for these options is cached."""
-    from bodyplay.trackers.colorshirt.database import default_cache_dir
+    from bodyplay.files import default_cache_dir
 
     folder = cache_dir or default_cache_dir()
     return folder / f"silhouette_tree_{tree_key(options)}.npz"
