@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import colorshirt_validation as cv
+from _identity import compare_poses
 from _machine import machine
 from bodyplay.capture.frames import FrameSet
 from bodyplay.capture.sources import open_source
@@ -252,24 +253,6 @@ def main(argv: list[str] | None = None) -> int:
     if args.compare:
         print(compare_poses(joints, dict(np.load(args.compare))))
     return 0
-
-
-def compare_poses(new: dict[str, NDArray[np.float64]], old: dict[str, NDArray[np.float64]]
-                  ) -> str:
-    """Per setting and clip in both, the largest joint difference (m) and the frames whose
-    found/lost state differs: 0 and 0 when a change left the poses identical."""
-    lines = []
-    for key in sorted(set(new) & set(old)):
-        a, b = new[key], old[key]
-        if a.shape != b.shape:
-            lines.append(f"{key}: {len(a)} frames against {len(b)}")
-            continue
-        state = int(np.count_nonzero((np.isnan(a) != np.isnan(b)).any(axis=(1, 2))))
-        both = np.isfinite(a) & np.isfinite(b)
-        diff = float(np.max(np.abs(a - b)[both])) if both.any() else 0.0
-        lines.append(f"{key}: max joint difference {diff:.3g} m, joints reported differ on "
-                     f"{state} of {len(a)} frames")
-    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -57,6 +57,7 @@ from bodyplay.trackers.silhouette import (
 from bodyplay.trackers.silhouette.hierarchy import tree_cache_path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _identity import compare_poses  # noqa: E402
 from _machine import machine  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
@@ -123,27 +124,6 @@ def track(folder: Path, tracker: Any) -> dict[str, Any]:
     return {"frame_err": frame_err, "upper": np.array(upper), "ms": np.array(ms),
             "found": found / max(n, 1), "stages": stages, "frames": n,
             "joints": np.array(joints, np.float64)}
-
-
-def compare_poses(new: dict[str, NDArray[np.float64]], old: dict[str, NDArray[np.float64]]
-                  ) -> str:
-    """Per capture in both, the largest joint difference (m) and the frames whose
-    found/lost state differs: 0 and 0 when a change left the poses identical."""
-    lines = []
-    for key in sorted(set(new) & set(old)):
-        a, b = new[key], old[key]
-        if a.shape != b.shape:
-            lines.append(f"{key}: {len(a)} frames against {len(b)}")
-            continue
-        state = int(np.count_nonzero((np.isnan(a) != np.isnan(b)).any(axis=(1, 2))))
-        both = np.isfinite(a) & np.isfinite(b)
-        diff = float(np.max(np.abs(a - b)[both])) if both.any() else 0.0
-        lines.append(f"{key}: max joint difference {diff:.3g} m, joints reported differ on "
-                     f"{state} of {len(a)} frames")
-    missing = sorted(set(old) - set(new))
-    if missing:
-        lines.append(f"not run here: {', '.join(missing)}")
-    return "\n".join(lines)
 
 
 def silhouette_tracker(folder: Path, tree: Any, options: SilhouetteOptions | None = None) -> Any:

@@ -114,11 +114,25 @@ def test_silhouette_options_reject_negative_arm_settings() -> None:
             SilhouetteOptions(**bad)  # type: ignore[arg-type]
 
 
+def _plain_capsule_costs(pts: np.ndarray, radii: np.ndarray, cost: np.ndarray,
+                         body: np.ndarray, out: np.ndarray) -> None:
+    """Every candidate's sum with no skipping: the kernel's own per-candidate steps
+    (``_capsule_setup``, ``_capsule_sum``), 1e9 where a point is not finite."""
+    from bodyplay.trackers.silhouette.armfit import _capsule_setup, _capsule_sum
+
+    h, w = cost.shape
+    box, sa = np.empty(4, np.int64), np.empty((3, 6))
+    bx0, bx1, by0, by1 = (np.empty(3, np.int64) for _ in range(4))
+    for k in range(len(pts)):
+        if _capsule_setup(pts, k, radii, h, w, box, bx0, bx1, by0, by1, sa):
+            out[k] = _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body)
+        else:
+            out[k] = 1e9
+
+
 def test_capsule_costs_sum_every_pixel_a_capsule_covers_outside_the_body() -> None:
     """The kernel skips pixels outside each segment's box; the sums must equal a plain
     test of every pixel of the image against the three capsules."""
-    from bodyplay.trackers.silhouette.armfit import _capsule_costs
-
     rng = np.random.default_rng(3)
     h, w = 120, 160
     cost = rng.normal(0.0, 1.0, (h, w))
@@ -128,7 +142,7 @@ def test_capsule_costs_sum_every_pixel_a_capsule_covers_outside_the_body() -> No
     pts[5, 2] = pts[5, 1]  # a segment of length zero
     radii = np.array([5.0, 4.0, 3.5])
     out = np.empty(len(pts))
-    _capsule_costs(pts, radii, cost, body, out)
+    _plain_capsule_costs(pts, radii, cost, body, out)
     ys, xs = np.mgrid[0:h, 0:w]
     for k in range(len(pts)):
         inside = np.zeros((h, w), bool)
@@ -146,7 +160,7 @@ def test_capsule_costs_sum_every_pixel_a_capsule_covers_outside_the_body() -> No
 def test_bounded_capsule_costs_skip_only_arms_that_cannot_be_the_cheapest() -> None:
     """The bounded kernel gives every candidate it scores the plain kernel's very sum,
     skips (inf) only candidates dearer than the cheapest, and so picks the same arm."""
-    from bodyplay.trackers.silhouette.armfit import _capsule_costs, _capsule_costs_bounded
+    from bodyplay.trackers.silhouette.armfit import _capsule_costs_bounded
 
     rng = np.random.default_rng(5)
     h, w = 120, 160
@@ -163,7 +177,7 @@ def test_bounded_capsule_costs_skip_only_arms_that_cannot_be_the_cheapest() -> N
     extra = 3.0 * np.linalg.norm(pts[:, 1:] - pts[:1, 1:], axis=2).sum(axis=1)
     extra[7] = 0.0
     plain, bounded = np.empty(len(pts)), np.empty(len(pts))
-    _capsule_costs(pts, radii, cost, body, plain)
+    _plain_capsule_costs(pts, radii, cost, body, plain)
     _capsule_costs_bounded(pts, radii, cost, body, extra, np.argsort(extra, kind="stable"),
                            negative, bounded)
     scored = np.isfinite(bounded)

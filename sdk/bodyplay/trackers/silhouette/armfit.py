@@ -207,30 +207,13 @@ def _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body):  # type: ignore[no-un
 
 
 @numba.njit(cache=True)
-def _capsule_costs(pts, radii, cost, body, out):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """Per candidate: sum of ``cost`` over pixels within radius of one of its three
-    segments (pts[k, 0..3] the chain shoulder, elbow, wrist, finger tips) and not in
-    ``body`` (1e9 for a candidate with a point not finite)."""
-    h, w = cost.shape
-    box = np.empty(4, np.int64)
-    bx0 = np.empty(3, np.int64)
-    bx1 = np.empty(3, np.int64)
-    by0 = np.empty(3, np.int64)
-    by1 = np.empty(3, np.int64)
-    sa = np.empty((3, 6))
-    for k in range(pts.shape[0]):
-        if _capsule_setup(pts, k, radii, h, w, box, bx0, bx1, by0, by1, sa):
-            out[k] = _capsule_sum(box, bx0, bx1, by0, by1, sa, cost, body)
-        else:
-            out[k] = 1e9
-
-
-@numba.njit(cache=True)
 def _capsule_costs_bounded(pts, radii, cost, body, extra, order, negative, out):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """:func:`_capsule_costs` for the candidates that can still be the cheapest: in
-    ``order``, a candidate whose lower bound plus ``extra[k]`` exceeds the least
-    ``out + extra`` so far is skipped (``out[k]`` = inf); the others get the very
-    sum :func:`_capsule_costs` gives. The bound: over its rows' spans, the sum of
+    """Per candidate that can still be the cheapest: the sum of ``cost`` over pixels
+    within radius of one of its three segments (pts[k, 0..3] the chain shoulder,
+    elbow, wrist, finger tips) and not in ``body`` (:func:`_capsule_sum`; 1e9 for a
+    candidate with a point not finite). In ``order``, a candidate whose lower bound
+    plus ``extra[k]`` exceeds the least ``out + extra`` so far is skipped
+    (``out[k]`` = inf). The bound: over its rows' spans, the sum of
     ``negative`` (per row, the running sum of min(cost, 0) outside ``body``, a
     column longer than ``cost``), which no covered pixel set can undercut; skipping
     asks it to exceed the best by a margin far above the rounding of either sum,
