@@ -25,9 +25,13 @@ rendered once and cached under ``--work``; the ``in view`` runs skip its empty
 frames. The clips are split deterministically: the eight the tracker was tuned on
 go to the **tune** half with every other one of the rest (sorted by name); the
 others form the **report** half. Tune only with ``--half tune``; report
-``--half report``. Per setting it prints the median and the worst clip's
-upper-body MPJPE (cm, over the frames with a pose), the share of frames with a
-pose (median and worst), and the median time per camera frame counted from the
+``--half report``. Every figure so far is of **draw 0**; ``--draw N`` (N >= 1) renders
+a fresh set of the same clips (another part of each clip, other rooms, body presets,
+camera placement and noise, other generated rooms), to judge a change chosen on draw
+0's halves on captures nobody has tuned on (``--half all --draw 1``). Per setting
+it prints the median and the worst clip's upper-body MPJPE (cm, over the frames
+with a pose), the share of frames with a pose (median and worst), and the median
+time per camera frame counted from the
 first frame (start-up included), with the machine and the date; once over all
 clips, then split by room kind: ``photo`` (the shipped photos, as in the issue's
 steady and lamp-switch rows) and ``clutter`` (the generated rooms full of shirt
@@ -113,6 +117,9 @@ PHOTO_ROOMS = ("brick", "coffee", "rocket", "gravel", "astronaut")
 CLUTTER_ROOMS = ("posters", "fruit", "clothes")
 STEADY_ROOMS = ("brick", "posters", "coffee", "clothes", "rocket", "fruit")
 SWITCH_ROOMS = ("fruit", "gravel", "clothes", "astronaut", "posters", "brick")
+DRAW_ROOM_STEP = 5
+"""How far each draw moves a clip along the room lists (prime to their lengths, 6 and 3)."""
+GOLDEN = 0.6180339887
 
 
 @dataclass(frozen=True)
@@ -143,6 +150,11 @@ class Clip:
     path: Path
     travel: str | None = None  # None, "approach" or "hop"
     builtin: str | None = None  # name of the built-in clip it is (left out of the database)
+
+
+DRAW_HELP = ("0: the captures every figure so far was measured on; 1, 2, ...: a fresh "
+             "draw of the same clips (another part of each, other rooms, bodies, camera "
+             "placement) to judge a change chosen on draw 0 on data nobody tuned on")
 
 
 def all_clips() -> list[Clip]:
@@ -246,22 +258,36 @@ def make_room(kind: str, seed: int, size: tuple[int, int] = (1280, 960)) -> NDAr
     return np.clip(cv2.GaussianBlur(img, (3, 3), 0), 0, 255).astype(np.uint8)
 
 
-def room_path(work: Path, room: str) -> str:
-    """A shipped background name, or the cached PNG of a generated room."""
+def room_path(work: Path, room: str, draw: int = 0) -> str:
+    """A shipped background name, or the cached PNG of a generated room (another
+    picture of the same kind in each ``draw``)."""
     if room not in CLUTTER_ROOMS:
         return room
-    path = work / "rooms" / f"{room}.png"
+    name = room if draw == 0 else f"{room}-d{draw}"
+    path = work / "rooms" / f"{name}.png"
     if not path.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
-        seed = int(hashlib.sha1(room.encode()).hexdigest()[:8], 16)
+        seed = int(hashlib.sha1(name.encode()).hexdigest()[:8], 16)
         cv2.imwrite(str(path), cv2.cvtColor(make_room(room, seed), cv2.COLOR_RGB2BGR))
     return str(path)
 
 
-def room_for(lighting: str, index: int) -> str:
-    """The room of the ``index``-th clip under a lighting (cluttered rooms for mixed)."""
+def room_for(lighting: str, index: int, draw: int = 0) -> str:
+    """The room of the ``index``-th clip under a lighting (cluttered rooms for mixed);
+    each ``draw`` moves every clip to another room of the list."""
     rooms = {"steady": STEADY_ROOMS, "switch": SWITCH_ROOMS, "mixed": CLUTTER_ROOMS}[lighting]
-    return rooms[index % len(rooms)]
+    return rooms[(index + DRAW_ROOM_STEP * draw) % len(rooms)]
+
+
+def body_for(index: int, draw: int = 0) -> str:
+    """The actor's body preset of the ``index``-th clip (another one in each ``draw``)."""
+    return BODIES[(index + draw) % len(BODIES)]
+
+
+def start_fraction(draw: int) -> float:
+    """Where a clip's part starts, as a share of the time left beside it: the centre
+    in draw 0, elsewhere in later draws (a golden-ratio walk over the clip)."""
+    return 0.5 if draw == 0 else (0.5 + GOLDEN * draw) % 1.0
 
 
 # ---- captures --------------------------------------------------------------------------
@@ -288,35 +314,44 @@ def _travel(poses: NDArray[np.float64], joints: NDArray[np.float64], kind: str,
 
 
 def capture(work: Path, clip: Clip, lighting: str, index: int, seconds: float,
-            lead_in: float = 1.0) -> Path:
-    """The cached two-camera capture of a clip under a lighting: lead-in, then the clip."""
+            lead_in: float = 1.0, draw: int = 0) -> Path:
+    """The cached two-camera capture of a clip under a lighting: lead-in, then the clip.
+
+    ``draw`` 0 is the set every figure so far was measured on; a later draw is a
+    fresh set of the same clips that nobody has tuned on: another part of each clip,
+    another room and body preset, other cameras' placement and noise (the rig's and
+    the camera's seed), other generated rooms.
+    """
     from bodyplay.body.actor import load_actor
     from bodyplay.motion.clip import load_clip
     from bodyplay.synth.camera import SyntheticCamera
     from bodyplay.synth.options import make_synthetic_camera_options
     from bodyplay.synth.writer import write_capture
 
-    room = room_for(lighting, index)
-    body = BODIES[index % len(BODIES)]
+    room = room_for(lighting, index, draw)
+    body = body_for(index, draw)
     key = f"{clip.name.replace(':', '_')}_{lighting}_{room}_{body}_{seconds:g}s"
+    if draw:
+        key += f"_d{draw}"
     out = work / "captures" / key
     if (out / "meta.json").exists():
         return out
     actor = load_actor(shape=body)
     full = load_clip(str(clip.path), skeleton=actor.skeleton)
-    start = max(0.0, 0.5 * (full.duration - seconds))
+    start = max(0.0, start_fraction(draw) * (full.duration - seconds))
     part = full.slice(start, min(seconds, full.duration))
     if clip.travel:
         part = replace(part, poses=_travel(part.poses, part.joints(), clip.travel, part.fps),
                        source_joints=None)
-    options = make_synthetic_camera_options(cameras=2, background=room_path(work, room),
-                                            lighting=lighting, body=body, seed=index)
+    options = make_synthetic_camera_options(cameras=2, background=room_path(work, room, draw),
+                                            lighting=lighting, body=body,
+                                            seed=index + 1000 * draw)
     cam = SyntheticCamera(options, part, actor=actor, duration=lead_in + part.duration)
     tmp = out.with_name(f"{out.name}.tmp{os.getpid()}")  # another run may render it too
     with cam:
         write_capture(tmp, cam, cam.from_clip(lead_in=lead_in),
                       run={"clip": clip.name, "start": start, "seconds": seconds,
-                           "lead_in": lead_in, "travel": clip.travel})
+                           "lead_in": lead_in, "travel": clip.travel, "draw": draw})
     try:
         tmp.rename(out)
     except OSError:
@@ -364,6 +399,7 @@ def add_capture_arguments(ap: argparse.ArgumentParser, setting: str) -> None:
     ap.add_argument("--setting", default=setting)
     ap.add_argument("--clips", default="", help="only these clips (comma-separated names)")
     ap.add_argument("--seconds", type=float, default=3.0)
+    ap.add_argument("--draw", type=int, default=0, help=DRAW_HELP)
     ap.add_argument("--db-size", type=int, default=20_000)
     ap.add_argument("--work", default="/work/cache-colorshirt")
     ap.add_argument("--set", action="append", default=[], metavar="OPTION=VALUE")
@@ -386,7 +422,8 @@ def half_captures(args: argparse.Namespace, setting: Setting
         if (args.half != "all" and half_of(clip, clips) != args.half) or (
                 chosen is not None and clip.name not in chosen):
             continue
-        folder = capture(Path(args.work), clip, setting.lighting, i, args.seconds)
+        folder = capture(Path(args.work), clip, setting.lighting, i, args.seconds,
+                         draw=args.draw)
         yield clip, folder, database_for(clip, options_from(args), dbs)
 
 
@@ -496,6 +533,7 @@ def main(argv: list[str] | None = None) -> int:
                     help=f"comma-separated, of {', '.join(s.name for s in SETTINGS)}")
     ap.add_argument("--clips", default="", help="only these clips (comma-separated names)")
     ap.add_argument("--seconds", type=float, default=3.0)
+    ap.add_argument("--draw", type=int, default=0, help=DRAW_HELP)
     ap.add_argument("--db-size", type=int, default=20_000)
     ap.add_argument("--work", default="/work/cache-colorshirt",
                     help="cache of rooms and captures (outside the repository)")
@@ -508,14 +546,17 @@ def main(argv: list[str] | None = None) -> int:
                     help="override a ColorShirtOptions field (part of the tag's key)")
     ap.add_argument("--json", help="also write this invocation's rows to this JSON file")
     args = ap.parse_args(argv)
+    if args.draw < 0:
+        ap.error(f"--draw must be 0 (the set measured so far) or a later draw, got {args.draw}")
     if not (MOCAP / "bandai_namco").exists():
         print("shared data not found (../shared/data/mocap); nothing to validate")
         return 1
     clips = all_clips()
     if args.list:
         for i, c in enumerate(clips):
-            print(f"{half_of(c, clips):6s} {c.name:48s} body {BODIES[i % len(BODIES)]:7s} rooms "
-                  + ", ".join(f"{lt} {room_for(lt, i)}" for lt in ("steady", "switch", "mixed")))
+            print(f"{half_of(c, clips):6s} {c.name:48s} body {body_for(i, args.draw):7s} rooms "
+                  + ", ".join(f"{lt} {room_for(lt, i, args.draw)}"
+                              for lt in ("steady", "switch", "mixed")))
         return 0
     work = Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
@@ -526,13 +567,13 @@ def main(argv: list[str] | None = None) -> int:
     extra = {k: ast.literal_eval(v) for k, v in (i.split("=", 1) for i in args.set)}
     options = ColorShirtOptions(database_size=args.db_size, **extra)
     tag = args.tag + ("" if not extra else " " + " ".join(sorted(args.set)))
-    done: dict[tuple[str, str, str, float], dict[str, Any]] = {}
+    done: dict[tuple[str, str, str, float, int], dict[str, Any]] = {}
     if results.exists() and not args.fresh:
         for line in results.read_text().splitlines():
             r = json.loads(line)
-            done[(r["tag"], r["clip"], r["setting"], r["seconds"])] = r
-    print(f"# colorshirt validation, half {args.half}, {datetime.date.today()}, {machine()}, "
-          f"tag {tag!r}", flush=True)
+            done[(r["tag"], r["clip"], r["setting"], r["seconds"], r.get("draw", 0))] = r
+    print(f"# colorshirt validation, half {args.half}, draw {args.draw}, "
+          f"{datetime.date.today()}, {machine()}, tag {tag!r}", flush=True)
     t0 = time.perf_counter()
     dbs: dict[str, PoseDatabase] = {}
     rows = []
@@ -544,13 +585,13 @@ def main(argv: list[str] | None = None) -> int:
               and (chosen is None or c.name in chosen)]
     for s in settings:  # setting by setting: an interrupted run has whole settings
         for i, clip in picked:
-            key = (tag, clip.name, s.name, args.seconds)
+            key = (tag, clip.name, s.name, args.seconds, args.draw)
             if key in done:
                 rows.append(done[key])
                 continue
-            folder = capture(work, clip, s.lighting, i, args.seconds)
+            folder = capture(work, clip, s.lighting, i, args.seconds, draw=args.draw)
             r = run_one(folder, s, options, database_for(clip, options, dbs))
-            r.update(tag=tag, clip=clip.name, setting=s.name, seconds=args.seconds,
+            r.update(tag=tag, clip=clip.name, setting=s.name, seconds=args.seconds, draw=args.draw,
                      half=half_of(clip, clips), capture=folder.name,
                      date=str(datetime.date.today()))
             with results.open("a") as f:
