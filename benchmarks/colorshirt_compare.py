@@ -3,9 +3,10 @@
 ``colorshirt_validation.py`` appends one row per (tag, clip, setting, seconds, draw)
 to a JSONL file. Deciding whether a change earns its place means setting its rows
 beside main's on the same captures: per setting the median, the worst clip and the
-mean of the clips both tags ran, how many clips got better or worse by more than a
-threshold, and the share of frames with a pose (median and fewest), which a change
-may buy or sell against the error. Rows may come from several files (a helper's and
+mean of the clips both tags ran (a clip without any pose has no MPJPE: it is counted
+apart), how many clips got better or worse by more than a threshold, and the share
+of frames with a pose (median and fewest), which a change may buy or sell against
+the error. Rows may come from several files (a helper's and
 the lead's), so every helper compares the same way.
 
     .venv/bin/python benchmarks/colorshirt_compare.py --results A.jsonl,B.jsonl \\
@@ -38,6 +39,7 @@ class Comparison:
     new: tuple[float, float, float]
     better: int
     worse: int
+    lost: tuple[int, int]  # clips without any pose: base, tag
     found_base: tuple[float, float]  # median, fewest share of frames with a pose
     found_new: tuple[float, float]
     per_clip: tuple[tuple[str, float, float], ...]  # (clip, base cm, new cm)
@@ -62,7 +64,12 @@ def _by_clip(rows: list[dict[str, Any]], tag: str, setting: str, draw: int
 
 
 def _stats(values: list[float]) -> tuple[float, float, float]:
+    """Median, worst and mean of the clips with a pose (a clip without any has no
+    MPJPE: it is counted in ``lost`` instead)."""
     a = np.asarray(values, float)
+    a = a[np.isfinite(a)]
+    if not len(a):
+        return float("nan"), float("nan"), float("nan")
     return float(np.median(a)), float(a.max()), float(a.mean())
 
 
@@ -81,6 +88,7 @@ def compare(rows: list[dict[str, Any]], base: str, tag: str, setting: str, draw:
         setting, tag, len(clips), _stats(b), _stats(n),
         better=sum(y < x - threshold for x, y in zip(b, n, strict=True)),
         worse=sum(y > x + threshold for x, y in zip(b, n, strict=True)),
+        lost=(sum(not np.isfinite(x) for x in b), sum(not np.isfinite(y) for y in n)),
         found_base=(float(np.median(fb)), min(fb)), found_new=(float(np.median(fn)), min(fn)),
         per_clip=tuple(zip(clips, b, n, strict=True)))
 
@@ -88,14 +96,16 @@ def compare(rows: list[dict[str, Any]], base: str, tag: str, setting: str, draw:
 def table(comparisons: list[Comparison], base: str, threshold: float) -> list[str]:
     """Markdown lines: one row per (setting, tag)."""
     lines = [f"| setting | tag | clips | {base}: median / worst / mean (cm) | tag: median / "
-             f"worst / mean | better / worse by > {threshold:g} cm | pose on frames, "
-             "median / fewest (base -> tag) |", "|---|---|---|---|---|---|---|"]
+             f"worst / mean | better / worse by > {threshold:g} cm | clips without a pose "
+             "(base -> tag) | pose on frames, median / fewest (base -> tag) |",
+             "|---|---|---|---|---|---|---|---|"]
     for c in comparisons:
         lines.append(
             f"| {c.setting} | {c.tag} | {c.clips} | {c.base[0]:.2f} / {c.base[1]:.2f} / "
             f"{c.base[2]:.2f} | {c.new[0]:.2f} / {c.new[1]:.2f} / {c.new[2]:.2f} | "
-            f"{c.better} / {c.worse} | {100 * c.found_base[0]:.0f} / {100 * c.found_base[1]:.0f}"
-            f" -> {100 * c.found_new[0]:.0f} / {100 * c.found_new[1]:.0f}% |")
+            f"{c.better} / {c.worse} | {c.lost[0]} -> {c.lost[1]} | "
+            f"{100 * c.found_base[0]:.0f} / {100 * c.found_base[1]:.0f} -> "
+            f"{100 * c.found_new[0]:.0f} / {100 * c.found_new[1]:.0f}% |")
     return lines
 
 

@@ -32,6 +32,16 @@ def test_compare_counts_only_clips_both_tags_ran_and_those_that_moved(compare) -
     assert c.found_new == pytest.approx((0.95, 0.9))
 
 
+def test_compare_counts_a_clip_without_any_pose_apart_from_the_errors(compare) -> None:  # type: ignore[no-untyped-def]
+    rows = [_row("main", "a", 4.0), _row("main", "b", float("nan"), found=0.0),
+            _row("new", "a", 5.0), _row("new", "b", 30.0, found=0.5)]
+    c = compare.compare(rows, "main", "new", "steady-2-view")
+    assert c.base == pytest.approx((4.0, 4.0, 4.0))
+    assert c.new == pytest.approx((17.5, 30.0, 17.5))
+    assert c.lost == (1, 0)
+    assert (c.better, c.worse) == (0, 1)
+
+
 def test_compare_keeps_draws_apart(compare) -> None:  # type: ignore[no-untyped-def]
     rows = [_row("main", "a", 4.0, draw=0), _row("new", "a", 3.0, draw=1)]
     assert compare.compare(rows, "main", "new", "steady-2-view", draw=0) is None
@@ -45,7 +55,8 @@ def test_compare_reads_rows_of_several_files_and_prints_a_table(compare, tmp_pat
     assert compare.main(["--results", f"{a},{b}", "--base", "main", "--tags", "new",
                          "--draw", "1", "--per-clip"]) == 0
     out = capsys.readouterr().out
-    assert "| steady-2-view | new | 1 | 5.00 / 5.00 / 5.00 | 4.00 / 4.00 / 4.00 | 1 / 0 |" in out
+    assert ("| steady-2-view | new | 1 | 5.00 / 5.00 / 5.00 | 4.00 / 4.00 / 4.00 | 1 / 0 | "
+            "0 -> 0 |") in out
     assert "5.00 ->   4.00 (-1.00)" in out
 
 
