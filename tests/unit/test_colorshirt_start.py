@@ -74,3 +74,19 @@ def test_a_lone_cameras_track_is_kept_in_every_combination() -> None:
     fit = _fits({frozenset(["tracked", "other"]): (1.0, 10, 0.05)})
     start = choose_start([[tracked], [other]], [tracked], 0, lambda v: True, fit, _BAND, True)
     assert start.views == [tracked, other]
+
+
+def test_one_camera_never_starts_on_a_still_region_learned_as_the_empty_room() -> None:
+    rug = _region(0, "rug")
+    fit = _fits({frozenset(["rug"]): (1.0, STILL_PATCHES + 2, 0.01)})
+    start = choose_start([[rug]], [], None, lambda v: False, fit, _BAND, True,
+                         seen_empty=lambda v: True)
+    assert start.views is None and start.held == []  # not held: the plates learn it
+
+
+def test_a_region_that_moved_starts_where_the_room_was_seen_empty() -> None:
+    player = _region(0, "player")
+    fit = _fits({frozenset(["player"]): (1.0, START_PATCHES + 2, 0.05)})
+    start = choose_start([[player]], [], None, lambda v: True, fit, _BAND, True,
+                         seen_empty=lambda v: True)
+    assert start.views == [player]

@@ -23,7 +23,12 @@ from bodyplay.trackers.colorshirt.colors import ColorModel
 from bodyplay.trackers.colorshirt.crossview import CrossView
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.floor import BackgroundPlate, FloorWatch, person_region
-from bodyplay.trackers.colorshirt.locate import BackgroundMask, ShirtLocation, ShirtLocator
+from bodyplay.trackers.colorshirt.locate import (
+    BackgroundMask,
+    ShirtLocation,
+    ShirtLocator,
+    reduce_box,
+)
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.prediction import (
     CropWindow,
@@ -51,6 +56,10 @@ _REDUCE = 2
 _MOVED = 0.01
 """Share of a start candidate's shirt box that MOG2 must see change for it to have
 moved (a player sways; a poster does not)."""
+
+_EMPTY_ROOM = 0.5
+"""Share of a start candidate's shirt box the room plate must have learned on frames
+without a player (the empty room) for a region nothing moved in to be that room."""
 
 _WARMUP = 1
 """Frames MOG2 learns before its mask is used."""
@@ -244,6 +253,19 @@ class CameraWork:
             return None
         share = st.background.moving(_ids_box(view))
         return None if share is None else share >= _MOVED
+
+    def seen_empty(self, st: CameraState, view: CameraView) -> bool:
+        """Whether the room plate learned most of ``view``'s shirt box on frames without
+        a player (:attr:`.plate.RoomPlate.empty_room`): a region nothing moved in
+        there was room while the tracker watched, not a player who came and stood."""
+        empty = st.room.empty_room
+        if empty is None:
+            return False
+        h, w = empty.shape
+        x0, y0, x1, y1 = reduce_box(_ids_box(view), _REDUCE, w, h)
+        if x1 <= x0 or y1 <= y0:
+            return False
+        return float(empty[y0:y1, x0:x1].mean()) >= _EMPTY_ROOM
 
     def commit(self, st: CameraState, view: CameraView, confirmed: bool) -> None:
         """``view`` (of :meth:`views`) is the shirt: its camera keeps what it chose."""

@@ -4,7 +4,8 @@ camera, that a fit explains best (docs/colorshirt.md, "The start").
 A combination counts only if its fit is plausible and upright; the one with the
 most cameras, then (one camera) the most patches anchored, then the lowest
 residual wins. A region nothing moved in is *held* (maybe a still player), unless
-one camera's fit anchors enough of the shirt (:data:`STILL_PATCHES`).
+one camera's fit anchors enough of the shirt (:data:`STILL_PATCHES`), or ignored when
+the room plate learned it on frames without a player (the empty room).
 """
 
 from __future__ import annotations
@@ -43,13 +44,16 @@ class StartChoice:
 def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
                  lone: int | None, moved: Callable[[CameraView], bool],
                  fit: Callable[[list[CameraView]], StartFit | None],
-                 root_band: tuple[float, float], motion_known: bool) -> StartChoice:
+                 root_band: tuple[float, float], motion_known: bool,
+                 seen_empty: Callable[[CameraView], bool] | None = None) -> StartChoice:
     """The best combination of ``candidates`` (per camera), each region or none.
 
     ``tracked``: the view of the camera ``lone`` that alone started the track (every
     combination holds it; empty when there is none); ``moved``: whether MOG2 saw a
     region move (read only when ``motion_known``); ``fit``: a combination's fit, None
-    when implausible; ``root_band``: metres, where an upright fit's root may be.
+    when implausible; ``root_band``: metres, where an upright fit's root may be;
+    ``seen_empty``: whether a region was learned as the empty room (a region nothing
+    moved in there is room: neither started on nor held, so the plates learn it).
     """
     one = len(candidates) == 1
     lo, hi = root_band
@@ -62,6 +66,9 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
         still = motion_known and not all(moved(v) for v in chosen if v.index != lone)
         if len(chosen) <= len(tracked) or (still and len(chosen) > 1):
             continue  # nothing added, or a camera saw nothing move there
+        if still and seen_empty is not None and any(
+                seen_empty(v) for v in chosen if v.index != lone and not moved(v)):
+            continue  # the room, seen empty: the plates learn it
         result = fit(chosen)
         if result is None:
             continue

@@ -272,7 +272,8 @@ class ColorShirtTracker:
             return f.q, len(f.seen), f.residual
 
         start = choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
-                             o.background_subtraction)
+                             o.background_subtraction,
+                             lambda v: self._work.seen_empty(self._cams[v.index], v))
         self._held = start.held
         self._lone = saved
         self.diagnostics = {}
