@@ -7,7 +7,7 @@ import pytest
 from colorshirt_paint import clutter, paint_shirt
 
 from bodyplay.errors import ConfigError
-from bodyplay.trackers.colorshirt.colors import srgb_color_model
+from bodyplay.trackers.colorshirt.colors import default_color_model, srgb_color_model
 from bodyplay.trackers.colorshirt.whitebalance import (
     ReferenceIlluminations,
     auto_white_balance,
@@ -78,11 +78,27 @@ def test_auto_white_balance_recovers_classification_without_scribbles(gains) -> 
     assert _accuracy(model, img, labels, W) > 0.95
 
 
+def test_auto_white_balance_in_view_does_not_paint_a_large_room_region_a_shirt_color() -> None:
+    # a player in view (no room mask) before a dusk sky, dark grey-blue, 45% of the
+    # window: a W that paints the sky one shirt color must not win over the shirt's
+    # own colors (draw 1's wave-both-hands lost its arms so)
+    rng = np.random.default_rng(8)
+    model = default_color_model()
+    img = clutter(100, 100, rng)
+    labels = paint_shirt(img, 5, 25, 10, rng)  # 20% of the window
+    sky = np.array([30, 60, 65]) + rng.normal(0, 3, size=(100, 45, 3))
+    img[:, 55:] = np.clip(sky, 0, 255).astype(np.uint8)
+    W = auto_white_balance(img, model)
+    assert np.mean(model.classify(img, W).ids[:, 55:] > 0) < 0.05
+    assert _accuracy(model, img, labels, W) > 0.95
+
+
 def test_classification_score_caps_each_color() -> None:
     ids = np.ones((10, 10), np.uint8)
     assert classification_score(ids) == pytest.approx(0.1)
     ids = (np.arange(100) % 10 + 1).astype(np.uint8).reshape(10, 10)
     assert classification_score(ids) == pytest.approx(1.0)
+    assert classification_score(ids, cap=0.05) == pytest.approx(0.5)
 
 
 def test_reference_illuminations_store_only_distinct_matrices_and_pick_the_best() -> None:

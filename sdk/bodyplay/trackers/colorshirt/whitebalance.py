@@ -110,12 +110,13 @@ def white_balance_from_scribbles(
     return W
 
 
-def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None) -> float:
-    """How shirt-like a classification is: ``sum_k min(fraction_k, 0.1)`` over colors
+def classification_score(ids: NDArray[np.uint8], n_pixels: int | None = None,
+                         cap: float = 0.1) -> float:
+    """How shirt-like a classification is: ``sum_k min(fraction_k, cap)`` over colors
     (the cap stops a ``W`` that paints everything one color from scoring well)."""
     n = ids.size if n_pixels is None else n_pixels
     counts = np.bincount(ids.reshape(-1), minlength=NUM_COLORS + 1)[1:]
-    return float(np.minimum(counts / max(n, 1), 0.1).sum())
+    return float(np.minimum(counts / max(n, 1), cap).sum())
 
 
 def _candidate_gains(
@@ -163,23 +164,26 @@ def auto_white_balance(
             small_mask = cv2.resize(mask.astype(np.uint8), size,
                                     interpolation=cv2.INTER_NEAREST) > 0
     n_small = int(small_mask.sum()) if small_mask is not None else small.shape[0] * small.shape[1]
+    # unmasked (a player in view, the room unknown), the window may be a third room:
+    # one color counts half as much, so painting the room one color cannot win
+    cap = 0.1 if mask is not None else 0.05
     best_W = np.eye(3)
     best_score = -1.0
     for W in [*_candidate_gains(image, mask, model), *(candidates or [])]:
         cls = model.classify(small, W, threshold, small_mask)
-        s = classification_score(cls.ids, n_small)
+        s = classification_score(cls.ids, n_small, cap)
         if s > best_score:
             best_score, best_W = s, W
     n_full = int(mask.sum()) if mask is not None else h * w
     cls = model.classify(image, best_W, threshold, mask)
-    score = classification_score(cls.ids, n_full)
+    score = classification_score(cls.ids, n_full, cap)
     for _ in range(refine_steps):
         W2 = white_balance_from_ids(image, cls.ids, model, prior=best_W, min_colors=4,
                                     ridge_fraction=0.1)
         if W2 is None:
             break
         cls2 = model.classify(image, W2, threshold, mask)
-        s2 = classification_score(cls2.ids, n_full)
+        s2 = classification_score(cls2.ids, n_full, cap)
         if s2 < score - 1e-3:
             break
         best_W, cls, score = W2, cls2, s2
