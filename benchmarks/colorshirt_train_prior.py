@@ -1,7 +1,7 @@
 """Train the color-shirt IK priors on synthetic ground truth and write the shipped asset.
 
 Tracks synthetic renders of the built-in CMU clips (two cameras, steady light) and
-fits the diagonal covariances of the IK energy (``PriorModel.fit``). The shipped
+fits the diagonal covariances of the IK energy (:func:`fit_prior_model`). The shipped
 ``bodyplay/assets/colorshirt/ik_prior.json`` keeps the trained articulation
 stds (floored at 0.05 rad) and hand-set root and pelvis stds and centroid std:
 trained as-is, the root and centroid terms let one-camera depth drift by tens of
@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from bodyplay.trackers.colorshirt.ik import PriorModel
+from bodyplay.body.rotations import matrix_to_rotvec, rotvec_to_matrix
+from bodyplay.trackers.colorshirt.ik import PriorModel, ik_dofs
 
 ASSET = Path(__file__).resolve().parents[1] / "sdk" / "bodyplay" / "assets" / "colorshirt"
 
@@ -83,11 +84,49 @@ def collect_training_data(
     return cat(truths), cat(blends), cat(ests), np.concatenate(cerr)
 
 
+def fit_prior_model(
+    truth: NDArray[np.float64],
+    blended: NDArray[np.float64],
+    centroid_errors: NDArray[np.float64],
+    floor: float = 0.01,
+    previous: NDArray[np.float64] | None = None,
+) -> PriorModel:
+    """Train the covariances as the paper does, from a ground-truth sequence.
+
+    ``truth`` and ``blended`` are (T, pose_dim) true and database-blended poses
+    (rows of NaN separate sequences), ``centroid_errors`` the centroid residuals at
+    the true pose (relative units). Orientation differences are measured as the
+    rotation between the two pelvis orientations. ``previous`` (T, pose_dim), the
+    tracker's estimates, makes the previous-pose term ``truth(t) - previous(t-1)``
+    (default: the truth itself, the paper's literal recipe).
+    """
+    dofs = ik_dofs()
+
+    def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        ok = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
+        a, b = a[ok], b[ok]
+        d = a - b
+        Ra = rotvec_to_matrix(a[:, 3:6])
+        Rb = rotvec_to_matrix(b[:, 3:6])
+        d[:, 3:6] = matrix_to_rotvec(np.einsum("nji,njk->nik", Rb, Ra))
+        return d[:, dofs]
+
+    d_b = diff(truth, blended)
+    prev = truth if previous is None else previous
+    d_p = diff(truth[1:], prev[:-1])
+    c = np.asarray(centroid_errors, dtype=np.float64)
+    return PriorModel(
+        float(max(np.sqrt(np.mean(c**2)), 1e-3)),
+        tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_b**2, axis=0))),
+        tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_p**2, axis=0))),
+    )
+
+
 def train_prior_model(**kwargs: object) -> PriorModel:
-    """:func:`collect_training_data` then :meth:`PriorModel.fit`, the previous-pose term
+    """:func:`collect_training_data` then :func:`fit_prior_model`, the previous-pose term
     on ``truth(t) - estimate(t - 1)`` (at run time ``q_h`` is the tracker's own)."""
     truth, blend, est, cerr = collect_training_data(**kwargs)  # type: ignore[arg-type]
-    return PriorModel.fit(truth, blend, cerr, previous=est)
+    return fit_prior_model(truth, blend, cerr, previous=est)
 
 
 def main() -> int:

@@ -9,9 +9,7 @@ from bodyplay.capture.camera import Camera, look_at
 from bodyplay.trackers.colorshirt.ik import (
     KinematicSolver,
     PatchAnchors,
-    PriorModel,
     default_prior_model,
-    ik_dofs,
 )
 from bodyplay.trackers.colorshirt.prediction import CropWindow, PoseRenderer
 
@@ -78,17 +76,6 @@ def test_ik_with_two_cameras_recovers_arm_poses() -> None:
     assert _err(q_start, q_true).max() > 0.15
     assert _err(q, q_true).mean() < 0.05
     assert SK.within_limits(q, tol=1e-6)
-
-
-def test_prior_model_fit_gives_positive_stds_per_free_dof() -> None:
-    rng = np.random.default_rng(0)
-    truth = np.tile(SK.rest_pose(), (50, 1)) + rng.normal(0, 0.05, (50, SK.pose_dim))
-    blended = truth + rng.normal(0, 0.2, truth.shape)
-    pm = PriorModel.fit(truth, blended, rng.normal(0, 0.03, 200))
-    assert len(pm.blend) == len(ik_dofs())
-    assert 0.1 < np.median(pm.blend) < 0.3
-    assert np.median(pm.previous) < np.median(pm.blend)
-    assert PriorModel.from_dict(pm.to_dict()) == pm
 
 
 def test_patch_stats_counts_centroids_and_mean_depths_per_id() -> None:

@@ -154,7 +154,8 @@ class PatchAnchors:
 
 @dataclass(frozen=True)
 class PriorModel:
-    """Diagonal covariances of the IK energy, trained on synthetic ground truth.
+    """Diagonal covariances of the IK energy, trained on synthetic ground truth
+    (``benchmarks/colorshirt_train_prior.py``).
 
     ``centroid`` is the std of a centroid constraint as a fraction of the shirt's
     size in the image; ``blend`` and ``previous`` are per-free-DOF stds (metres for
@@ -183,45 +184,6 @@ class PriorModel:
         return cls(float(data["centroid"]),  # type: ignore[arg-type]
                    tuple(float(v) for v in data["blend"]),  # type: ignore[attr-defined]
                    tuple(float(v) for v in data["previous"]))  # type: ignore[attr-defined]
-
-    @classmethod
-    def fit(
-        cls,
-        truth: NDArray[np.float64],
-        blended: NDArray[np.float64],
-        centroid_errors: NDArray[np.float64],
-        floor: float = 0.01,
-        previous: NDArray[np.float64] | None = None,
-    ) -> PriorModel:
-        """Train the covariances as the paper does, from a ground-truth sequence.
-
-        ``truth`` and ``blended`` are (T, pose_dim) true and database-blended poses
-        (rows of NaN separate sequences), ``centroid_errors`` the centroid residuals at
-        the true pose (relative units). Orientation differences are measured as the
-        rotation between the two pelvis orientations. ``previous`` (T, pose_dim), the
-        tracker's estimates, makes the previous-pose term ``truth(t) - previous(t-1)``
-        (default: the truth itself, the paper's literal recipe).
-        """
-        dofs = ik_dofs()
-
-        def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-            ok = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
-            a, b = a[ok], b[ok]
-            d = a - b
-            Ra = rotvec_to_matrix(a[:, 3:6])
-            Rb = rotvec_to_matrix(b[:, 3:6])
-            d[:, 3:6] = matrix_to_rotvec(np.einsum("nji,njk->nik", Rb, Ra))
-            return d[:, dofs]
-
-        d_b = diff(truth, blended)
-        prev = truth if previous is None else previous
-        d_p = diff(truth[1:], prev[:-1])
-        c = np.asarray(centroid_errors, dtype=np.float64)
-        return cls(
-            float(max(np.sqrt(np.mean(c**2)), 1e-3)),
-            tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_b**2, axis=0))),
-            tuple(float(max(v, floor)) for v in np.sqrt(np.mean(d_p**2, axis=0))),
-        )
 
 
 def default_prior_model() -> PriorModel:
