@@ -277,7 +277,7 @@ def test_the_body_is_judged_by_the_shirt_anchors_not_the_heads_found(
     from bodyplay.capture.sources import open_source
     from bodyplay.trackers.colorshirt import ColorShirtOptions, create_colorshirt_tracker
     from bodyplay.trackers.colorshirt.bodyselect import reprojection_residual
-    from bodyplay.trackers.colorshirt.cues import HEAD_PATCH
+    from bodyplay.trackers.colorshirt.head import HEAD_PATCH
     from bodyplay.trackers.colorshirt.ik import PatchAnchors
 
     opts = ColorShirtOptions(database_size=4000, database_cache=str(tmp_path / "c"),

@@ -192,7 +192,7 @@ def test_floor_reading_tells_how_far_apart_in_depth_the_feet_stand(
     from types import SimpleNamespace
 
     from bodyplay.trackers.colorshirt import ColorShirtOptions
-    from bodyplay.trackers.colorshirt.cues import floor_reading
+    from bodyplay.trackers.colorshirt.floor import floor_reading
 
     R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
     cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)
@@ -218,7 +218,7 @@ def test_floor_reading_is_the_depth_of_the_root_above_the_feet_for_a_camera_look
     from types import SimpleNamespace
 
     from bodyplay.trackers.colorshirt import ColorShirtOptions
-    from bodyplay.trackers.colorshirt.cues import floor_reading
+    from bodyplay.trackers.colorshirt.floor import floor_reading
 
     R, t = look_at((0.0, 1.25, 3.0), (0.0, 0.9, 0.0))
     cam = Camera.from_fov("cam0", 640, 480, 60.0, R, t)

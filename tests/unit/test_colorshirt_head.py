@@ -12,8 +12,13 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
 from bodyplay.trackers.colorshirt import ColorShirtOptions
-from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, head_anchors, head_from_cue, join_anchors
-from bodyplay.trackers.colorshirt.head import HeadPoint, find_head
+from bodyplay.trackers.colorshirt.head import (
+    HEAD_PATCH,
+    HeadPoint,
+    find_head,
+    head_anchors,
+    head_from_cue,
+)
 from bodyplay.trackers.colorshirt.ik import PatchAnchors
 from bodyplay.trackers.colorshirt.locate import BackgroundMask
 from bodyplay.trackers.colorshirt.views import CameraState
@@ -83,9 +88,9 @@ def test_head_anchors_join_the_shirt_anchors_after_them() -> None:
         return PatchAnchors(np.zeros(n, np.int64), np.zeros((n, 3)), np.zeros(n, np.int64),
                             np.zeros((n, 2)), np.ones(n), np.full(n, patch, np.int64))
 
-    joined = join_anchors(anchors(3, 5), anchors(2, HEAD_PATCH))
+    joined = anchors(3, 5).join(anchors(2, HEAD_PATCH))
     assert len(joined) == 5 and list(joined.patch) == [5, 5, 5, HEAD_PATCH, HEAD_PATCH]
-    assert join_anchors(anchors(3, 5), anchors(0, HEAD_PATCH)).patch.tolist() == [5, 5, 5]
+    assert anchors(3, 5).join(anchors(0, HEAD_PATCH)).patch.tolist() == [5, 5, 5]
     assert HEAD_PATCH == 21  # after the shirt's twenty patches
 
 

@@ -49,8 +49,7 @@ def patch_anchors(renderer: PoseRenderer, solver: KinematicSolver, cameras: Sequ
         sigmas.append(np.where(WHITE_PATCHES[pats], sig * o.white_std_scale, sig))
         pids.append(pats)
     if not nodes:
-        z = np.zeros(0, np.int64)
-        return PatchAnchors(z, np.zeros((0, 3)), z, np.zeros((0, 2)), np.zeros(0), z)
+        return PatchAnchors.empty()
     return PatchAnchors(np.concatenate(nodes), np.concatenate(locals_),
                         np.concatenate(cams).astype(np.int64), np.concatenate(targets),
                         np.concatenate(sigmas), np.concatenate(pids).astype(np.int64))

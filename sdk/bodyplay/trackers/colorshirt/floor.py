@@ -1,16 +1,18 @@
 """Where the feet meet the floor: a depth cue for one camera (beyond the paper).
 
 The feet stand on the floor (world ``y = 0``), so the ray through the person's
-lowest pixel meets the floor at the person's distance. The feet need a mask that
-keeps still legs, which MOG2 absorbs: :class:`BackgroundPlate` learns the empty
-room and then follows it only away from the person, with one gain per channel for
-the light. Without empty-room frames the feet come from the room plate
+lowest pixel meets the floor at the person's distance (:func:`floor_reading`). The
+feet need a mask that keeps still legs, which MOG2 absorbs: :class:`BackgroundPlate`
+learns the empty room and then follows it only away from the person, with one gain
+per channel for the light. Without empty-room frames the feet come from the room plate
 (:class:`.plate.RoomPlate`), where it knows the floor under them.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
@@ -20,9 +22,12 @@ from bodyplay.capture.camera import Camera
 from bodyplay.trackers.colorshirt.locate import reduce_box, reduce_image
 from bodyplay.trackers.colorshirt.plate import RoomPlate
 
-__all__ = [
-    "BackgroundPlate", "FeetPoint", "FloorWatch", "feet_points", "floor_depth", "person_region",
-]
+if TYPE_CHECKING:
+    from bodyplay.trackers.colorshirt.options import ColorShirtOptions
+    from bodyplay.trackers.colorshirt.views import CameraState, CameraView
+
+__all__ = ["BackgroundPlate", "FeetPoint", "FloorReading", "FloorWatch", "feet_points",
+           "floor_depth", "floor_reading", "person_region"]
 
 Box = tuple[int, int, int, int]
 
@@ -301,3 +306,36 @@ class FloorWatch:
     def last_feet(self) -> tuple[FeetPoint, ...]:
         """The feet found this frame, without searching for them (for overlays)."""
         return self._feet or ()
+
+
+@dataclass(frozen=True)
+class FloorReading:
+    """What the feet told in one frame: the root's ``depth`` along the lone camera's
+    axis (m; None: no reading) and the ``stagger``, how far apart in depth the two
+    feet stand (m; None unless both were found: then one image cannot say which
+    foot bears the weight)."""
+
+    stagger: float | None = None
+    depth: float | None = None
+
+
+def floor_reading(cameras: Sequence[Camera], states: Sequence[CameraState],
+                  views: Sequence[CameraView], options: ColorShirtOptions,
+                  root_height: float) -> FloorReading:
+    """The root's depth that a lone camera reads from the feet: their floor points'
+    mean raised by ``root_height`` (m), its depth plus ``options.floor_offset``."""
+    if len(views) != 1 or not options.floor_cue:
+        return FloorReading()
+    cam = cameras[views[0].index]
+    points, depths = [], []
+    for f in states[views[0].index].floor.feet():
+        z = floor_depth(cam, f)
+        if z is not None:
+            depths.append(z)
+            ray = np.linalg.solve(cam.K, np.array([f.u, f.v, 1.0]))
+            points.append(cam.R.T @ (ray * z) + cam.center)
+    if not depths:
+        return FloorReading()
+    root = np.mean(points, axis=0) + np.array([0.0, root_height, 0.0])
+    depth = float(cam.world_to_camera(root)[2]) + options.floor_offset
+    return FloorReading(max(depths) - min(depths) if len(depths) > 1 else None, depth)

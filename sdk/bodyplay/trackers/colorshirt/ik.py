@@ -151,6 +151,19 @@ class PatchAnchors:
     def __len__(self) -> int:
         return int(self.node.shape[0])
 
+    @classmethod
+    def empty(cls) -> PatchAnchors:
+        """No anchors."""
+        z = np.zeros(0, np.int64)
+        return cls(z, np.zeros((0, 3)), z, np.zeros((0, 2)), np.zeros(0), z)
+
+    def join(self, other: PatchAnchors) -> PatchAnchors:
+        """These anchors followed by ``other``'s."""
+        if len(other) == 0:
+            return self
+        return PatchAnchors(*(np.concatenate([getattr(self, f), getattr(other, f)]) for f in
+                              ("node", "local", "camera", "target", "sigma", "patch")))
+
 
 @dataclass(frozen=True)
 class PriorModel:

@@ -14,8 +14,7 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
 from bodyplay.trackers.base import JointState, TrackResult
-from bodyplay.trackers.colorshirt.cues import HEAD_PATCH, head_from_cue
-from bodyplay.trackers.colorshirt.head import HeadPoint
+from bodyplay.trackers.colorshirt.head import HEAD_PATCH, HeadPoint, head_from_cue
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.views import CameraView
 

@@ -32,16 +32,11 @@ from bodyplay.trackers.colorshirt.bodyselect import (
 )
 from bodyplay.trackers.colorshirt.camerawork import CameraWork
 from bodyplay.trackers.colorshirt.colors import ColorModel
-from bodyplay.trackers.colorshirt.cues import (
-    FloorReading,
-    floor_reading,
-    head_anchors,
-    join_anchors,
-)
 from bodyplay.trackers.colorshirt.database import PoseDatabase
 from bodyplay.trackers.colorshirt.depth import RootDepthFilter
+from bodyplay.trackers.colorshirt.floor import FloorReading, floor_reading
 from bodyplay.trackers.colorshirt.gates import SpeedGate, plausible
-from bodyplay.trackers.colorshirt.head import HeadPoint
+from bodyplay.trackers.colorshirt.head import HeadPoint, head_anchors
 from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
@@ -402,7 +397,7 @@ class ColorShirtTracker:
         anchors, observed = self._anchors(q_b, views, refine=o.pose_prior)
         shirt_only = anchors
         heads, found = head_anchors(self.skeleton, q_b, self.cameras, self._cams, views, o)
-        anchors = join_anchors(anchors, heads)
+        anchors = anchors.join(heads)
         self.diagnostics["heads"] = found
         self.diagnostics["observed"] = [(v, counts, cents) for v, (counts, cents)
                                         in zip(views, observed, strict=True)]
