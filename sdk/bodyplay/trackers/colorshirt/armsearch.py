@@ -175,7 +175,9 @@ class ArmSearch:
         self._nodes = {s: np.array([skeleton.node_index(n) for n in names])
                        for s, names in ARM_NODES.items()}
         self._parent = {s: skeleton.parents[int(n[0])] for s, n in self._nodes.items()}
-        self._cols = {s: _arm_columns(skeleton, s) for s in ARM_NODES}
+        self._cols = {s: (3 + 3 * n[:, None] + np.arange(3)).ravel()
+                      for s, n in self._nodes.items()}
+        """Per side, the pose-vector columns of the arm's node rotations."""
         self._rot: dict[str, NDArray[np.float64]] = {}
         self._rel: dict[str, NDArray[np.float64]] = {}
         for s in ARM_NODES:
@@ -387,9 +389,8 @@ class ArmView:
         """Distance maps and arm-only pixels of a classified crop (color ids 1..10)."""
         k = ids.astype(np.int64) - 1
         ys, xs = np.nonzero(np.isin(k, ARM_ONLY_COLORS))
-        if len(xs) > max_pixels:
-            pick = np.linspace(0, len(xs) - 1, max_pixels).round().astype(np.intp)
-            ys, xs = ys[pick], xs[pick]
+        pick = _spread(np.arange(len(xs)), max_pixels)
+        ys, xs = ys[pick], xs[pick]
         pix = np.column_stack([xs, ys, k[ys, xs]]).astype(np.float64)
         return cls(camera, window, color_distance_maps(ids, ARM_COLORS), pix, float(tau))
 
@@ -479,17 +480,12 @@ def _spread_from_first(rel: NDArray[np.float64], unit: float = 0.1) -> NDArray[n
     return np.asarray(((p - p[0]) ** 2).sum(axis=-1).mean(axis=-1) / unit**2, np.float64)
 
 
-def _spread(faces: NDArray[np.intp], n: int) -> NDArray[np.intp]:
-    """At most ``n`` of a patch's faces, evenly spaced in mesh order (rings of a loft)."""
-    if len(faces) <= n:
-        return faces
-    return faces[np.linspace(0, len(faces) - 1, n).round().astype(np.intp)]
-
-
-def _arm_columns(skeleton: Skeleton, side: str) -> NDArray[np.intp]:
-    """Pose-vector columns of one arm's node rotations."""
-    idx = [skeleton.node_index(n) for n in ARM_NODES[side]]
-    return np.concatenate([np.arange(3 + 3 * i, 6 + 3 * i) for i in idx])
+def _spread(items: NDArray[np.intp], n: int) -> NDArray[np.intp]:
+    """At most ``n`` of ``items``, evenly spaced in their order (a patch's faces: rings
+    of a loft)."""
+    if len(items) <= n:
+        return items
+    return items[np.linspace(0, len(items) - 1, n).round().astype(np.intp)]
 
 
 def arm_library(skeleton: Skeleton, poses: NDArray[np.float64], size: int, seed: int = 0

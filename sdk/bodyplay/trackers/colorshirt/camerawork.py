@@ -99,10 +99,10 @@ def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
     floor cue's region around the shirt's classified pixels, down to the image's
     lower edge (:func:`person_region`)."""
     w, h = cam.width // _REDUCE, cam.height // _REDUCE
-    x0, y0, x1, y1 = person_region(_ids_box(view), cam.width, cam.height)
+    region = person_region(_ids_box(view), cam.width, cam.height)
+    x0, y0, x1, y1 = reduce_box(region, _REDUCE, w, h)
     out = np.zeros((h, w), bool)
-    out[max(y0 // _REDUCE, 0): max(-(-y1 // _REDUCE), 0),
-        max(x0 // _REDUCE, 0): max(-(-x1 // _REDUCE), 0)] = True
+    out[y0:y1, x0:x1] = True
     return out
 
 
@@ -365,8 +365,7 @@ class CameraWork:
         lut = np.zeros(NUM_COLORS + 1, np.uint8)
         for k, pats in enumerate(renderer.color_patches):
             lut[k + 1] = max(pats, key=lambda p: rend.stats.count[p])
-        view.patch_ids = lut[view.ids]
-        st, _ = patch_stats(view.patch_ids)
+        st, _ = patch_stats(lut[view.ids])
         return st.count, st.centroid
 
     def refine_classification(self, renderer: PoseRenderer, view: CameraView,
@@ -382,9 +381,7 @@ class CameraWork:
         view.ids = ids
         # a kept pixel keeps its color (clean_ids only drops pixels): its patch is the
         # one of that color nearest to it
-        patch_ids = np.where(ids > 0, owner, np.uint8(0))
-        view.patch_ids = patch_ids
-        st, _ = patch_stats(patch_ids)
+        st, _ = patch_stats(np.where(ids > 0, owner, np.uint8(0)))
         return st.count, st.centroid
 
     def refit_white_balance(self, st: CameraState, view: CameraView,

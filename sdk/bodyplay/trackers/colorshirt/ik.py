@@ -242,8 +242,7 @@ class KinematicSolver:
         self._ts = np.stack([c.t for c in cameras]).astype(np.float64)
         self._free_ik = ik_dofs()
         self._torso_nodes = np.array([NODE_NAMES.index(n) for n in ("lumbar", "thorax")])
-        lo, hi = skeleton.limits
-        self._lo, self._hi = lo, hi
+        self._lo, self._hi = skeleton.limits
 
     # ---- anchors -----------------------------------------------------------------
     def attach(

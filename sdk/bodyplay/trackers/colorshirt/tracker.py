@@ -154,10 +154,8 @@ class ColorShirtTracker:
         confirmed = self._gate.reported is not None
         self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
-        if self.options.facing_turn < 180 and self._prev is not None:
-            self._work.facing = rotvec_to_matrix(self._prev[3:6])[:, 2]  # the body's forward
-        else:
-            self._work.facing = None
+        prev = self._prev if self.options.facing_turn < 180 else None  # the body's forward:
+        self._work.facing = None if prev is None else rotvec_to_matrix(prev[3:6])[:, 2]
         if starting:
             views, fresh = self._start_views(frames, confirmed)
             if fresh and self._alone is not None:  # a new hypothesis replaces a lone

@@ -91,10 +91,8 @@ class CameraView:
     shirt_scale: float
     query_scale: float = 1.0
     query_offset: NDArray[np.float64] = field(default_factory=lambda: np.zeros(2))
-    query: NDArray[np.uint8] | None = None
     distance: float = 1.0
     neighbours: object | None = None
-    patch_ids: NDArray[np.uint8] | None = None
     state: CameraState | None = None
     """A start candidate's camera state (its white balance) until it is chosen."""
 
@@ -222,19 +220,17 @@ def make_query(view: CameraView, database: PoseDatabase, lo: NDArray[np.float64]
                min_cos: float = 0.0) -> None:
     """Normalize the classified crop like the database (bounding box, margin, 40x40) and
     find its neighbours (facing as :meth:`PoseDatabase.query`)."""
-    db = database
-    n = db.options.map_size
+    n = database.options.map_size
     extent = max(float(np.max(hi - lo)), 4.0)
-    s = n * (1.0 - 2.0 * db.options.margin) / extent
+    s = n * (1.0 - 2.0 * database.options.margin) / extent
     # crop pixel centres: bounding box of pixel areas [x - 0.5, x + 0.5]
     centre = 0.5 * (lo + hi) - 0.5
     off = (n - 1) / 2.0 - centre * s
     M = np.array([[s, 0.0, off[0]], [0.0, s, off[1]]])
     query = np.asarray(cv2.warpAffine(view.ids, M, (n, n), flags=cv2.INTER_NEAREST,
                                       borderValue=0), np.uint8)
-    view.query = query
     view.query_scale, view.query_offset = s, off
-    nb = db.query(query, facing=facing, min_cos=min_cos)
+    nb = database.query(query, facing=facing, min_cos=min_cos)
     view.neighbours = nb
     view.distance = float(nb.distance[0])
 
@@ -246,11 +242,8 @@ def classify_camera(st: CameraState, crop: NDArray[np.uint8], mask: NDArray[np.b
     illumination after a light change) and classify the crop; ``st`` remembers ``W``.
     ``fg`` is the paper's "supposedly foreground" (the located window, masked).
     """
-    box = nonzero_box(fg)
-    if box is not None:  # the automatic search looks at the located window, mostly shirt
-        sub = (slice(box[1], box[3] + 1), slice(box[0], box[2] + 1))
-    else:
-        sub = (slice(None), slice(None))
+    box = nonzero_box(fg)  # the automatic search looks at the located window, mostly shirt
+    sub = np.s_[:, :] if box is None else np.s_[box[1]: box[3] + 1, box[0]: box[2] + 1]
     sub_mask = None if mask is None else mask[sub]
     if st.W is None:
         st.W = auto_white_balance(crop[sub], model, sub_mask, o.threshold,
