@@ -61,9 +61,6 @@ _EMPTY_ROOM = 0.5
 """Share of a start candidate's shirt box the room plate must have learned on frames
 without a player (the empty room) for a region nothing moved in to be that room."""
 
-_WARMUP = 1
-"""Frames MOG2 learns before its mask is used."""
-
 _TORSO_PATCHES = np.array([p.id for p in PATCHES if p.bone in ("thorax", "lumbar")])
 """The shirt's torso patches (front, back, flanks)."""
 
@@ -136,7 +133,7 @@ class CameraWork:
         """Fresh per-camera states (nothing learned; ``initial_white_balance`` if set)."""
         init = self.options.initial_white_balance
         states = [
-            CameraState(BackgroundMask(downscale=_REDUCE, warmup=_WARMUP),
+            CameraState(BackgroundMask(downscale=_REDUCE),
                         references=ReferenceIlluminations(self.options.reference_distance),
                         floor=FloorWatch(BackgroundPlate(downscale=_REDUCE)))
             for _ in self.cameras

@@ -314,7 +314,7 @@ class BackgroundMask:
     :meth:`apply` gives None during the ``warmup`` frames and for an almost empty mask."""
 
     def __init__(
-        self, downscale: int = 2, history: int = 500, warmup: int = 10, min_fraction: float = 0.01
+        self, downscale: int = 2, history: int = 500, warmup: int = 1, min_fraction: float = 0.01
     ) -> None:
         self.downscale = max(1, int(downscale))
         self.warmup = warmup

@@ -37,10 +37,9 @@ from bodyplay.trackers.colorshirt.depth import RootDepthFilter
 from bodyplay.trackers.colorshirt.floor import FloorReading, floor_reading
 from bodyplay.trackers.colorshirt.gates import SpeedGate, plausible
 from bodyplay.trackers.colorshirt.head import HeadPoint, head_anchors
-from bodyplay.trackers.colorshirt.ik import KinematicSolver, PatchAnchors, PriorModel, RootPrior
+from bodyplay.trackers.colorshirt.ik import PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
-from bodyplay.trackers.colorshirt.prediction import PoseRenderer
 from bodyplay.trackers.colorshirt.report import pose_result
 from bodyplay.trackers.colorshirt.start import StartFit, choose_start
 from bodyplay.trackers.colorshirt.views import CameraView
@@ -87,8 +86,7 @@ class ColorShirtTracker:
         self._work = CameraWork(options, cameras, database, color_model)
         self._presets = dict(bodies) if bodies else {}
         """Candidate body presets (``body="auto"``); empty: the fixed ``skeleton``."""
-        self._fixed = self._presets.get("m") or BodyModel(
-            options.body, skeleton, PoseRenderer(skeleton), KinematicSolver(skeleton, cameras))
+        self._fixed = self._presets.get("m") or BodyModel.build(options.body, cameras, skeleton)
         """The reference body (the database's), reported while the start-up chooses."""
         self._use(self._fixed)
         self.placement = DatabasePlacement(database, cameras)
