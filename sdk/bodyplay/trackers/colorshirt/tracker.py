@@ -152,7 +152,8 @@ class ColorShirtTracker:
         confirmed = self._gate.reported is not None
         self._work.prepare(self._cams, [fr.image for fr in frames])
         starting, fresh = self._starting(), False
-        prev = self._prev if self.options.facing_turn < 180 else None  # the body's forward:
+        # the last pose's forward (its root rotation's z axis) limits the database's turn
+        prev = self._prev if self.options.facing_turn < 180 else None
         self._work.facing = None if prev is None else rotvec_to_matrix(prev[3:6])[:, 2]
         if starting:
             views, fresh = self._start_views(frames, confirmed)
