@@ -56,6 +56,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.mesh import body_mesh
+from bodyplay.body.shapes import BodyShape
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.body.skinning import SkinnedMesh
 from bodyplay.capture.camera import Camera
@@ -190,15 +191,17 @@ class Overlay:
 
 
 class PoseSilhouette:
-    """The silhouette of a reported pose: the tracker's body mesh of the body preset
-    it chose, in that pose, rendered by the (undistorted) camera at a mask's size."""
+    """The silhouette of a reported pose: the tracker's body mesh of the body shape
+    it reports (``extras["shape"]``: the preset it chose, its girth measured; the
+    preset itself when only ``extras["body"]`` is given), in that pose, rendered by
+    the (undistorted) camera at a mask's size."""
 
     def __init__(self, camera: Camera) -> None:
         self.camera = camera
-        self._bodies: dict[str, tuple[Skeleton, SkinnedMesh]] = {}
+        self._bodies: dict[str | BodyShape, tuple[Skeleton, SkinnedMesh]] = {}
 
-    def __call__(self, body: str, pose: NDArray[np.float64], shape: tuple[int, int]
-                 ) -> NDArray[np.bool_]:
+    def __call__(self, body: str | BodyShape, pose: NDArray[np.float64],
+                 shape: tuple[int, int]) -> NDArray[np.bool_]:
         if body not in self._bodies:
             sk = Skeleton.from_shape(body)
             self._bodies[body] = (sk, body_mesh(sk))
@@ -237,9 +240,9 @@ def run_camera(cap: Path, tree: Any, options: SilhouetteOptions, ref_masks: Any,
             shape = np.asarray(sil).shape
             if tpl is not None:
                 obs.append(iou(np.asarray(sil) > 0, np.asarray(tpl) > 0))
-            body = r.extras.get("body")
+            body = r.extras.get("shape") or r.extras.get("body")
             shown = (posed(body, r.pose, shape) if r.found and r.pose is not None
-                     and isinstance(body, str) else None)
+                     and isinstance(body, str | BodyShape) else None)
             if shown is not None:
                 pose_obs.append(iou(np.asarray(sil) > 0, shown))
             if ref_masks is not None and i < len(ref_masks):

@@ -264,6 +264,11 @@ class SilhouetteOptions:
     elbow and wrist move from the tree's arm, ``arm_margin`` how much cheaper (sum
     of eq. 11's per-pixel term) it must be to replace it (on the tune clips: off
     12.9 cm mean of clip medians, 11.1 with these);
+    ``width_frames``: the body's girth (torso and limbs' thickness; not its joints)
+    is measured on the reported pose over that many frames after the body is
+    chosen (:mod:`.bodywidth`: the preset's mesh at girth factors 0.9 to
+    ``width_max`` scored by eq. 11 in the window, the median of the frames'
+    cheapest) and reported as ``extras["shape"]`` (0: the preset's own shape);
     ``head_depth_weight``: share of the head-top depth cue (:mod:`.headdepth`) blended
     into the root's distance from the camera (0: the floor point alone),
     ``head_depth_window`` the seconds its median is taken over, ``head_min_lever``
@@ -342,6 +347,8 @@ class SilhouetteOptions:
     arm_candidates: int = 1000
     arm_stay: float = 3.0
     arm_margin: float = 100.0
+    width_frames: int = 30
+    width_max: float = 1.4
     head_depth_weight: float = 0.0
     head_depth_window: float = 0.5
     head_min_lever: float = 0.3
@@ -379,6 +386,9 @@ class SilhouetteOptions:
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:
             raise ConfigError("arm_candidates (0: no per-arm refinement), arm_stay and "
                               "arm_margin must be >= 0")
+        if self.width_frames < 0 or not 1.0 <= self.width_max <= 2.0:
+            raise ConfigError("width_frames must be >= 0 (0: the preset's own girth) and "
+                              f"width_max within 1..2, got {self.width_frames}, {self.width_max}")
         if self.sigma <= 0 or self.occlusion_m < 1:
             raise ConfigError("sigma must be > 0 and occlusion_m >= 1")
         if not isinstance(self.transition_frames, int) or not 1 <= self.transition_frames <= 10:

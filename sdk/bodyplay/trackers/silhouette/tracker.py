@@ -43,6 +43,7 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
+from bodyplay.body.shapes import BodyShape, body_shape
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
@@ -57,6 +58,7 @@ from bodyplay.trackers.base import (
 from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
 from bodyplay.trackers.silhouette.background import BackgroundModel, Silhouette
 from bodyplay.trackers.silhouette.bodychoice import BodyChoice
+from bodyplay.trackers.silhouette.bodywidth import WidthFit
 from bodyplay.trackers.silhouette.distance import DistanceMaps, distance_maps
 from bodyplay.trackers.silhouette.facing import reflect_output
 from bodyplay.trackers.silhouette.headdepth import RunningMedian, head_depth_offset
@@ -165,6 +167,7 @@ class SilhouetteTracker:
         self._shape_ds: list[float] = []
         self._shape_d: float | None = None
         self._bad = 0
+        self._width: WidthFit | None = None  # the player's girth, measured per track
         o = self.options
         self._motion = TrackMotion(o.still_window, o.still_motion, o.still_fit,
                                    o.background.min_area)
@@ -519,6 +522,7 @@ class SilhouetteTracker:
             joints = joints + move * sight
             pose = pose.copy()
             pose[0:3] += move * sight
+        shape = self._body_shape(body, pose, win)
         if self._last is not None and self.options.smooth > 0 and frames.t - self._last.t < 0.2:
             a = self.options.smooth
             joints = a * self._last.joints + (1 - a) * joints
@@ -531,6 +535,7 @@ class SilhouetteTracker:
             "silhouette": sil.foreground, "unknown": sil.unknown, "template": template,
             "silhouette_scale": sil.scale, "leaf": step.leaf, "distance": step.distance,
             "evaluations": step.evaluations, "body": body, "ground": win.ground,
+            "shape": shape,
         }
         self._last = _Last(joints, pose, frames.t, template, protect, extras)
         conf = np.where(np.array([s == "tracked" for s in states]), 1.0, 0.5)
@@ -542,6 +547,20 @@ class SilhouetteTracker:
         extras["facing"] = self.options.facing
         return TrackResult(frames.index, frames.t, joints, states, conf,
                            (time.perf_counter() - t0) * 1000.0, pose, extras)
+
+    def _body_shape(self, body: str, pose: NDArray[np.float64], win: ObservedWindow
+                    ) -> BodyShape:
+        """The body shape to report: the preset's, its girth measured on the reported
+        pose over the track's first ``width_frames`` frames (:mod:`.bodywidth`; the
+        preset's own with ``width_frames`` 0)."""
+        o = self.options
+        if not o.width_frames:
+            return body_shape(body)
+        if self._width is None:
+            self._width = WidthFit(o.width_frames, o.width_max)
+        if not self._width.done:
+            self._width.add(body, pose, win.views[2], self._maps_now[2].cost)
+        return self._width.shape(body)
 
     def _head_offset(self, leaf_mask: NDArray[np.uint8], step: FilterStep, win: ObservedWindow
                      ) -> float | None:
