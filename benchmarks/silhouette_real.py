@@ -8,9 +8,11 @@ its first frame. Per camera:
 * **IoU with the observed silhouette**: the chosen template mapped back into the
   image against the tracker's own observed silhouette (the foreground components
   it follows) -- what the tracker saw, ghosts of the first frame and all;
-* **IoU of the reported pose**: the pose the tracker reports (the blend of the best
-  leaves, the arms refined, the depth cues applied: what a game receives), its
-  body's mesh rendered by the camera at the observed silhouette's size, against the
+* **IoU of the reported pose**: the pose vector the tracker reports (the MAP leaf's,
+  the arms refined, the depth cues applied: what a game receives; the joints are the
+  blend of the best leaves, smoothed), the mesh of the body shape it reports
+  (``extras["shape"]``: the chosen preset, its girth measured) rendered by the
+  camera at the observed silhouette's size, against the
   observed silhouette and against the reference below -- the issue's "silhouette of
   the estimated pose", where the two columns before are the chosen template's;
 * **IoU with a reference silhouette**: against MediaPipe's person segmentation of

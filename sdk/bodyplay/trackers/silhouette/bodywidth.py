@@ -5,7 +5,7 @@ the body's thickness to its height: a preset is chosen by stature
 (:mod:`.bodychoice`), and the player's torso and limbs are as thick as that
 preset's. People of one height differ in build, and clothes add to it: on the real
 footage of Pose2Sim the rendered body of the chosen preset was 3 to 6 pixels
-narrower, row by row, than the person's silhouette (MediaPipe's mask: 3 to 6 cm
+narrower, row by row, than the person's silhouette (MediaPipe's mask: 3 to 7 cm
 across the torso), and on the synthetic captures the actor was wider than the
 tracker's mesh too (docs/silhouette-history.md, section 14).
 
