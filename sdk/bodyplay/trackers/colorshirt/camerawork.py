@@ -57,6 +57,10 @@ _MOVED = 0.01
 """Share of a start candidate's shirt box that MOG2 must see change for it to have
 moved (a player sways; a poster does not)."""
 
+_MOVED_REACH = 0.25
+"""How far beyond what moved (in located window sizes) a region found there is
+classified: the still rest of a shirt whose limb moved."""
+
 _EMPTY_ROOM = 0.5
 """Share of a start candidate's shirt box the room plate must have learned on frames
 without a player (the empty room) for a region nothing moved in to be that room."""
@@ -250,6 +254,57 @@ class CameraWork:
             return None
         share = st.background.moving(_ids_box(view))
         return None if share is None else share >= _MOVED
+
+    def moved_view(self, i: int, st: CameraState, t: float) -> CameraView | None:
+        """Camera ``i``'s shirt-like region found within what the room plate saw a
+        player move (:meth:`.plate.RoomPlate.moved_zone`), classified there alone: still
+        room in the shirt's colours beside the player is left out. None until a player
+        moved, or when no region is found there. Call after :meth:`views` this frame."""
+        image = st.image
+        zone = st.room.moved_zone() if self.options.room_plate else None
+        if image is None or zone is None:
+            return None
+        h, w = image.shape[:2]
+        mask = cv2.resize(zone.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        room = st.room.foreground()
+        known = None if room is None else cv2.resize(
+            room.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        loc = self.locator.locate(image, mask if known is None else mask & known, None)
+        if not loc.found:
+            return None
+        # what moved is often a limb: the still rest of the shirt lies within a window
+        r = max(1, int(round(_MOVED_REACH * loc.scale)))
+        mask = cv2.dilate(mask.astype(np.uint8), cv2.getStructuringElement(
+            cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
+        if known is not None:  # pixels the room plate knows as room are not the player
+            mask &= known
+        trial = dataclasses.replace(st, references=copy.deepcopy(st.references),
+                                    gate=None, last_box=None)
+        view = self._view_at(i, trial, image, mask, loc, t)
+        if view is not None:
+            view.state = trial
+        return view
+
+    def moved_share(self, st: CameraState, view: CameraView | None) -> float:
+        """The share of ``view``'s shirt box lying where the room plate saw a player move
+        (:meth:`.plate.RoomPlate.moved_zone`; 0 before anything moved, or without a
+        view): how much of the region is a player rather than still room."""
+        zone = st.room.moved_zone() if self.options.room_plate and view is not None else None
+        if zone is None or view is None:
+            return 0.0
+        h, w = zone.shape
+        x0, y0, x1, y1 = reduce_box(_ids_box(view), _REDUCE, w, h)
+        if x1 <= x0 or y1 <= y0:
+            return 0.0
+        return float(zone[y0:y1, x0:x1].mean())
+
+    @staticmethod
+    def overlap(a: CameraView, b: CameraView) -> float:
+        """The share of ``b``'s shirt box lying within ``a``'s (the same camera's)."""
+        ax0, ay0, ax1, ay1 = _ids_box(a)
+        bx0, by0, bx1, by1 = _ids_box(b)
+        inside = max(0, min(ax1, bx1) - max(ax0, bx0)) * max(0, min(ay1, by1) - max(ay0, by0))
+        return inside / max(1, (bx1 - bx0) * (by1 - by0))
 
     def seen_empty(self, st: CameraState, view: CameraView) -> bool:
         """Whether the room plate learned most of ``view``'s shirt box on frames without

@@ -162,6 +162,40 @@ class RoomPlate:
             return None
         return self._count >= self.known_frames
 
+    def _moved_patches(self) -> NDArray[np.uint8] | None:
+        """The pixels seen to change (not with the light) that lie in a changed patch of
+        3 x 3 plate pixels: a player's limb, not a camera's noise (single pixels and
+        pairs, scattered). None before any frame."""
+        if self._moved is None:
+            return None
+        return np.asarray(cv2.morphologyEx(self._moved.astype(np.uint8), cv2.MORPH_OPEN,
+                                           np.ones((3, 3), np.uint8),
+                                           borderType=cv2.BORDER_CONSTANT, borderValue=0),
+                          np.uint8)
+
+    def saw_a_player_move(self) -> bool:
+        """Whether the pixels seen to change since the plate began hold a patch of at
+        least 3 x 3 plate pixels: a player who moved. A camera's noise changes single
+        pixels and pairs, scattered (an empty room's second changes hundreds of them),
+        never a whole patch; a limb changes patches."""
+        patches = self._moved_patches()
+        return patches is not None and bool(patches.any())
+
+    def moved_zone(self) -> NDArray[np.bool_] | None:
+        """Where a player who moved may be: the convex hull of the changed patches
+        (:meth:`saw_a_player_move`) and everything under it (a still trunk and legs
+        under arms that wave). Still room the player never crossed, beside or above
+        it, lies outside. None until a player moved."""
+        patches = self._moved_patches()
+        if patches is None:
+            return None
+        points = cv2.findNonZero(patches)
+        if points is None:
+            return None
+        zone = np.zeros(patches.shape, np.uint8)
+        cv2.fillConvexPoly(zone, cv2.convexHull(points), 1)
+        return np.logical_or.accumulate(zone > 0, axis=0)
+
     def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
               seen_alike: NDArray[np.bool_] | None = None) -> None:
         """A new frame at the plate's resolution (RGB); the plate follows the light.

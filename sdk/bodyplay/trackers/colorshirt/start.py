@@ -2,10 +2,11 @@
 camera, that a fit explains best (docs/colorshirt.md, "The start").
 
 A combination counts only if its fit is plausible and upright; the one with the
-most cameras, then (one camera) the most patches anchored, then the lowest
-residual wins. A region nothing moved in is *held* (maybe a still player), unless
-one camera's fit anchors enough of the shirt (:data:`STILL_PATCHES`), or ignored when
-the room plate learned it on frames without a player (the empty room).
+most cameras, then (one camera) the region lying most in what moved
+(:data:`MOVED_SHARE`), the most patches anchored, then the lowest residual wins. A
+region nothing moved in is *held* (maybe a still player), unless one camera's fit
+anchors enough of the shirt (:data:`STILL_PATCHES`), or ignored when the room plate
+learned it on frames without a player (the empty room).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from numpy.typing import NDArray
 
 from bodyplay.trackers.colorshirt.views import CameraView
 
-__all__ = ["STILL_PATCHES", "START_PATCHES", "StartChoice", "choose_start"]
+__all__ = ["MOVED_SHARE", "STILL_PATCHES", "START_PATCHES", "StartChoice", "choose_start"]
 
 STILL_PATCHES = 8
 """Patches (of 20) a one-camera fit of a region nothing moved in must anchor to start
@@ -27,6 +28,12 @@ the track anyway (a still player shows about 10, clutter 2-5)."""
 
 START_PATCHES = 6
 """Patches (of 20) a one-camera start must anchor (a player facing the camera: 7-11)."""
+
+MOVED_SHARE = 0.5
+"""Share of a one-camera start region's shirt box that must lie where the room plate
+saw a player move for the region to rank before those that do not (a still poster
+beside the player lies outside; a lone camera's first frame and a player waiting
+still lie in nothing that moved, and still start when nothing else fits)."""
 
 StartFit = tuple[NDArray[np.float64], int, float]
 """A combination's fit: pose vector, patches anchored, mean relative residual."""
@@ -45,7 +52,8 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
                  lone: int | None, moved: Callable[[CameraView], bool],
                  fit: Callable[[list[CameraView]], StartFit | None],
                  root_band: tuple[float, float], motion_known: bool,
-                 seen_empty: Callable[[CameraView], bool] | None = None) -> StartChoice:
+                 seen_empty: Callable[[CameraView], bool] | None = None,
+                 moved_share: Callable[[CameraView], float] | None = None) -> StartChoice:
     """The best combination of ``candidates`` (per camera), each region or none.
 
     ``tracked``: the view of the camera ``lone`` that alone started the track (every
@@ -53,11 +61,13 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
     region move (read only when ``motion_known``); ``fit``: a combination's fit, None
     when implausible; ``root_band``: metres, where an upright fit's root may be;
     ``seen_empty``: whether a region was learned as the empty room (a region nothing
-    moved in there is room: neither started on nor held, so the plates learn it).
+    moved in there is room: neither started on nor held, so the plates learn it);
+    ``moved_share``: (one camera) how much of a region lies where the room plate saw a
+    player move: a region of :data:`MOVED_SHARE` or more ranks first.
     """
     one = len(candidates) == 1
     lo, hi = root_band
-    best: tuple[tuple[int, int, int, float], list[CameraView]] | None = None
+    best: tuple[tuple[int, int, int, int, float], list[CameraView]] | None = None
     held: list[CameraView] = []
     choices: list[list[CameraView | None]] = [
         [*tracked] or [None] if i == lone else [*c, None] for i, c in enumerate(candidates)]
@@ -80,7 +90,8 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
             continue  # standing still, whom the plates must not learn
         if one and patches < START_PATCHES:
             continue  # too little of the shirt's layout to tell it from clutter
-        key = (int(still), -len(chosen), -patches if one else 0, residual)
+        lying = one and moved_share is not None and moved_share(chosen[0]) >= MOVED_SHARE
+        key = (int(still), -len(chosen), -int(lying), -patches if one else 0, residual)
         if best is None or key < best[0]:
             best = (key, chosen)
     return StartChoice(None if best is None else best[1], held)

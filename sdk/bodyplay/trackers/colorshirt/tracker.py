@@ -41,7 +41,7 @@ from bodyplay.trackers.colorshirt.ik import PatchAnchors, PriorModel, RootPrior
 from bodyplay.trackers.colorshirt.options import ColorShirtOptions
 from bodyplay.trackers.colorshirt.placement import DatabasePlacement
 from bodyplay.trackers.colorshirt.report import pose_result
-from bodyplay.trackers.colorshirt.start import StartFit, choose_start
+from bodyplay.trackers.colorshirt.start import MOVED_SHARE, StartChoice, StartFit, choose_start
 from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["ColorShirtTracker", "CameraView"]
@@ -102,15 +102,16 @@ class ColorShirtTracker:
         self._last_t: float | None = None
         self._gate = SpeedGate(self.options.max_speed, self.options.good_residual)
         self._floor = FloorReading()
-        o = self.options
-        self._depth = RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std,
-                                      o.body_scale_std)
+        self._depth = self._new_depth()
         self._lone: int | None = None
         """The camera that alone sees the shirt this frame (None: none or several)."""
         self._held: list[CameraView] = []
         """Start regions that fit a shirt but never moved (:meth:`_start_views`)."""
         self._alone: tuple[int, int] | None = None
         """The camera of several that alone tracks the player, and for how many frames."""
+        self._unscored: int | None = None
+        """One camera: frames since its track started on a region lying in nothing that
+        moved (:data:`.start.MOVED_SHARE`; None: it did not, or that was long ago)."""
         self._selection: BodySelection | None = None
         self._arm_stage_started = False
         self._bodies = dict(self._presets)
@@ -129,6 +130,11 @@ class ColorShirtTracker:
         self.skeleton = body.skeleton
         self.renderer = body.renderer
         self.solver = body.solver
+
+    def _new_depth(self) -> RootDepthFilter:
+        """A one-camera root depth filter that knows nothing yet."""
+        o = self.options
+        return RootDepthFilter(o.depth_accel, o.floor_std, o.shirt_depth_std, o.body_scale_std)
 
     @property
     def body_name(self) -> str:
@@ -165,6 +171,14 @@ class ColorShirtTracker:
         else:
             views = [v for i in range(len(frames))
                      for v in self._work.views(i, self._cams[i], frames.t, confirmed, 1)]
+            moved = self._moved_restart(views, frames.t)
+            if moved is not None:  # the player moved elsewhere than the track started
+                views, fresh = moved, True
+                self._prev = None
+                self._gate.clear()
+                self._depth = self._new_depth()
+                if self._selection is not None:
+                    self._selection.previous.clear()
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         root_height = (float(self._prev[1]) if self._prev is not None
@@ -248,24 +262,16 @@ class ColorShirtTracker:
                                   1 if i == lone else o.start_candidates,
                                   lone is not None or len(self.cameras) == 1)
                  for i in range(len(frames))]
+        if len(self.cameras) == 1:  # also the region within what the player moved
+            found = self._work.moved_view(0, self._cams[0], frames.t)
+            cands[0] += [] if found is None else [found]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
         tracked = [] if lone is None else cands[lone]
-        moved = {id(v): self._work.moved(self._cams[v.index], v)
-                 for i, c in enumerate(cands) if i != lone for v in c}
-        band = (o.start_root_band[0] * self.skeleton.pelvis_height,
-                o.start_root_band[1] * self.skeleton.pelvis_height)
-        saved, self._lone = self._lone, None  # judged without the depth filter
-
-        def fit(chosen: list[CameraView]) -> StartFit | None:
-            self.diagnostics = {}
-            f = self._estimate([copy.copy(v) for v in chosen], None)
-            if not np.isfinite(f.residual) or not self._plausible(f.q, f.views):
-                return None
-            return f.q, len(f.seen), f.residual
-
-        start = choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
-                             o.background_subtraction,
-                             lambda v: self._work.seen_empty(self._cams[v.index], v))
+        saved = self._lone
+        start = self._choose(cands, tracked, lone)
+        if len(self.cameras) == 1 and start.views is not None:
+            lying = self._work.moved_share(self._cams[0], start.views[0]) >= MOVED_SHARE
+            self._unscored = None if lying else 0
         self._held = start.held
         self._lone = saved
         self.diagnostics = {}
@@ -276,6 +282,62 @@ class ColorShirtTracker:
             if v.index != lone:
                 self._work.commit(self._cams[v.index], v, confirmed)
         return chosen, start.views is not None
+
+    def _choose(self, cands: list[list[CameraView]], tracked: list[CameraView],
+                lone: int | None) -> StartChoice:
+        """:func:`.start.choose_start` over ``cands`` (per camera), each combination
+        fitted without the depth filter (``_lone`` is None while it judges; the caller
+        puts it back)."""
+        o = self.options
+        moved = {id(v): self._work.moved(self._cams[v.index], v)
+                 for i, c in enumerate(cands) if i != lone for v in c}
+        band = (o.start_root_band[0] * self.skeleton.pelvis_height,
+                o.start_root_band[1] * self.skeleton.pelvis_height)
+        self._lone = None  # judged without the depth filter
+
+        def fit(chosen: list[CameraView]) -> StartFit | None:
+            self.diagnostics = {}
+            f = self._estimate([copy.copy(v) for v in chosen], None)
+            if not np.isfinite(f.residual) or not self._plausible(f.q, f.views):
+                return None
+            return f.q, len(f.seen), f.residual
+
+        return choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
+                            o.background_subtraction,
+                            lambda v: self._work.seen_empty(self._cams[v.index], v),
+                            lambda v: self._work.moved_share(self._cams[v.index], v))
+
+    def _moved_restart(self, views: list[CameraView], t: float) -> list[CameraView] | None:
+        """One camera whose track started on a region lying in nothing that moved (a
+        first frame, clutter that outranked a still player), for at most
+        ``start_agreement_frames`` frames: once the room plate saw a player move
+        elsewhere than the track (``views``: this frame's), the region found there,
+        committed, if a start accepts it. None: the track goes on (it lies in what
+        moved: the player, and is no longer checked)."""
+        if self._unscored is None or len(self.cameras) != 1:
+            return None
+        self._unscored += 1
+        if self._unscored > self.options.start_agreement_frames:
+            self._unscored = None
+            return None
+        st, work = self._cams[0], self._work
+        if not st.room.saw_a_player_move():
+            return None
+        if views and work.moved_share(st, views[0]) >= MOVED_SHARE:
+            self._unscored = None  # the track lies in what moved: the player's
+            return None
+        found = work.moved_view(0, st, t)
+        if (found is None or found.distance > self.options.max_mismatch
+                or work.moved_share(st, found) < MOVED_SHARE):
+            return None  # nothing found there
+        saved = self._lone
+        start = self._choose([[found]], [], None)
+        self._lone, self.diagnostics = saved, {}
+        if start.views is None:
+            return None
+        self._unscored = None
+        work.commit(st, found, self._gate.reported is not None)
+        return [found]
 
     # ---- start-up: the body choice ---------------------------------------------------
     def _select_body(self, views: list[CameraView]) -> BodyFit | None:
