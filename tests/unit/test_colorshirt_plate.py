@@ -121,3 +121,49 @@ def test_column_median_equals_numpys_median_for_odd_and_even_counts() -> None:
         got = column_median(x)
         assert got.dtype == np.float32
         np.testing.assert_array_equal(got, np.median(x, axis=0))
+
+
+def _waving(room: np.ndarray, k: int) -> np.ndarray:
+    """A player whose trunk stands still at x 30-42 while a forearm waves above it."""
+    frame = room.copy()
+    frame[20:50, 30:42] = (240, 120, 20)  # the still trunk
+    x = 30 + 3 * (k % 4)
+    frame[8:20, x:x + 4] = (30, 200, 60)  # the forearm, moving
+    return frame
+
+
+def test_room_plate_does_not_read_a_cameras_noise_as_a_player_who_moved() -> None:
+    """An empty room whose camera changes scattered single pixels and pairs from frame
+    to frame (draw 2's empty second: hundreds of them) has not seen a player move and
+    has no moved zone; a moving limb has."""
+    rng = np.random.default_rng(5)
+    plate, room = RoomPlate(), _room()
+    for _ in range(30):
+        frame = room.copy()
+        ys, xs = rng.integers(0, room.shape[0], 6), rng.integers(0, room.shape[1] - 1, 6)
+        frame[ys, xs] = 255 - frame[ys, xs]  # single pixels
+        frame[ys, xs + 1] = 255 - frame[ys, xs + 1]  # and pairs
+        plate.start(frame)
+        plate.learn(None, everywhere=True)
+    assert not plate.saw_a_player_move() and plate.moved_zone() is None
+    for k in range(3):
+        plate.start(_waving(room, k))
+        plate.learn(None, everywhere=True)
+    assert plate.saw_a_player_move()
+
+
+def test_room_plates_moved_zone_holds_a_still_trunk_under_a_waving_arm_not_a_poster_beside(
+) -> None:
+    """Where a player who moved may be: the hull of what changed and everything under it
+    holds the still trunk under the waving forearm; the still poster beside the player,
+    in the shirt's colours, lies outside (a start region there scores zero)."""
+    plate, room = RoomPlate(), _room()
+    assert plate.moved_zone() is None  # before any frame
+    for k in range(6):
+        plate.start(_waving(room, k))
+        plate.learn(None)
+    zone = plate.moved_zone()
+    assert zone is not None
+    assert zone[8:20, 31:42].all()  # the waving forearm
+    assert zone[20:50, 32:41].all()  # the still trunk under it
+    assert not zone[10:30, 50:70].any()  # the poster beside the player

@@ -9,6 +9,7 @@ from typing import Any, cast
 import numpy as np
 
 from bodyplay.trackers.colorshirt.start import (
+    MOVED_SHARE,
     START_PATCHES,
     STILL_PATCHES,
     StartFit,
@@ -90,3 +91,40 @@ def test_a_region_that_moved_starts_where_the_room_was_seen_empty() -> None:
     start = choose_start([[player]], [], None, lambda v: True, fit, _BAND, True,
                          seen_empty=lambda v: True)
     assert start.views == [player]
+
+
+def test_one_camera_ranks_a_region_lying_in_what_moved_before_one_anchoring_more() -> None:
+    """Draw 2's fruit room: a shelf of fruit in the shirt's colours anchors more patches
+    than the player beside it (8 against 7) and started the track (164 cm, a pose on 1%
+    of frames); once the room plate saw the player move, the region lying in what moved
+    ranks first, whatever it anchors."""
+    shelf, player = _region(0, "shelf"), _region(0, "player")
+    fit = _fits({frozenset(["shelf"]): (1.0, START_PATCHES + 2, 0.05),
+                 frozenset(["player"]): (1.0, START_PATCHES + 1, 0.05)})
+    share = {"shelf": 0.0, "player": MOVED_SHARE + 0.3}
+    start = choose_start([[shelf, player]], [], None, lambda v: True, fit, _BAND, True,
+                         moved_share=lambda v: share[cast(Any, v).name])
+    assert start.views == [player]
+
+
+def test_one_camera_without_anything_that_moved_still_ranks_by_patches() -> None:
+    """A lone camera's first frame (nothing seen to change yet) or a player waiting
+    still: every region scores zero, none is refused for it, and the most patches
+    anchored win as before."""
+    poster, player = _region(0, "poster"), _region(0, "player")
+    fit = _fits({frozenset(["poster"]): (1.0, START_PATCHES, 0.05),
+                 frozenset(["player"]): (1.0, START_PATCHES + 3, 0.05)})
+    start = choose_start([[poster, player]], [], None, lambda v: True, fit, _BAND, True,
+                         moved_share=lambda v: 0.0)
+    assert start.views == [player]
+
+
+def test_two_cameras_ignore_what_moved_in_one_camera() -> None:
+    """With two cameras the start is as before: the combination both see wins, what one
+    camera's room plate saw move does not rank it."""
+    a, b, c = _region(0, "a"), _region(1, "b"), _region(0, "c")
+    fit = _fits({frozenset(["a", "b"]): (1.0, 8, 0.05), frozenset(["c", "b"]): (1.0, 8, 0.04)})
+    share = {"a": 1.0, "b": 1.0, "c": 0.0}
+    start = choose_start([[a, c], [b]], [], None, lambda v: True, fit, _BAND, True,
+                         moved_share=lambda v: share[cast(Any, v).name])
+    assert start.views == [c, b]  # the lower residual, as without the scores
