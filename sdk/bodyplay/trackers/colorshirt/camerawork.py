@@ -298,14 +298,6 @@ class CameraWork:
             return 0.0
         return float(zone[y0:y1, x0:x1].mean())
 
-    @staticmethod
-    def overlap(a: CameraView, b: CameraView) -> float:
-        """The share of ``b``'s shirt box lying within ``a``'s (the same camera's)."""
-        ax0, ay0, ax1, ay1 = _ids_box(a)
-        bx0, by0, bx1, by1 = _ids_box(b)
-        inside = max(0, min(ax1, bx1) - max(ax0, bx0)) * max(0, min(ay1, by1) - max(ay0, by0))
-        return inside / max(1, (bx1 - bx0) * (by1 - by0))
-
     def seen_empty(self, st: CameraState, view: CameraView) -> bool:
         """Whether the room plate learned most of ``view``'s shirt box on frames without
         a player (:attr:`.plate.RoomPlate.empty_room`): a region nothing moved in

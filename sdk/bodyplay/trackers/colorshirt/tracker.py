@@ -172,7 +172,7 @@ class ColorShirtTracker:
             views = [v for i in range(len(frames))
                      for v in self._work.views(i, self._cams[i], frames.t, confirmed, 1)]
             moved = self._moved_restart(views, frames.t)
-            if moved is not None:  # the player moved elsewhere than the track started
+            if moved is not None:  # the track lies in still room, the player moved
                 views, fresh = moved, True
                 self._prev = None
                 self._gate.clear()
@@ -310,10 +310,11 @@ class ColorShirtTracker:
     def _moved_restart(self, views: list[CameraView], t: float) -> list[CameraView] | None:
         """One camera whose track started on a region lying in nothing that moved (a
         first frame, clutter that outranked a still player), for at most
-        ``start_agreement_frames`` frames: once the room plate saw a player move
-        elsewhere than the track (``views``: this frame's), the region found there,
-        committed, if a start accepts it. None: the track goes on (it lies in what
-        moved: the player, and is no longer checked)."""
+        ``start_agreement_frames`` frames: once the room plate saw a player move and the
+        tracked region (``views``: this frame's) lies mostly outside it (still room: a
+        shelf instead of the player, or room in the shirt's colours grown onto the
+        player), the region found within what moved, committed, if a start accepts it.
+        None: the track goes on (once it lies in what moved it is no longer checked)."""
         if self._unscored is None or len(self.cameras) != 1:
             return None
         self._unscored += 1
