@@ -25,6 +25,8 @@ from bodyplay.trackers.colorshirt import (
 from bodyplay.trackers.colorshirt.database import build_database
 
 SK = Skeleton()
+ELBOW_ANGLES = [3 + 3 * SK.node_index(n) for n in ("l_elbow", "r_elbow")]
+"""The pose vector's first rotation component of each elbow (a forearm that waves)."""
 
 
 @pytest.fixture(scope="module")
@@ -372,13 +374,12 @@ def test_one_camera_starts_on_a_still_player_whose_arms_move_not_on_a_brighter_p
     room = clutter(480, 640, np.random.default_rng(0))
     paint_shirt(room, 480, 330, 28, np.random.default_rng(5))
     q = _truth(11)
-    elbows = [3 + 3 * SK.node_index(n) for n in ("l_elbow", "r_elbow")]
     tr = create_colorshirt_tracker(ColorShirtOptions(), cams, database=db)
     rng = np.random.default_rng(4)
     errs = []
     for i in range(5):
         qi = q.copy()
-        qi[elbows] += 0.15 * (i % 2)  # the forearms wave, the torso stands still
+        qi[ELBOW_ANGLES] += 0.15 * (i % 2)  # the forearms wave, the torso stands still
         r = tr.process(_frameset(_paint(qi, cams, rng, rooms=[room]), i))
         if r.found:
             errs.append(np.linalg.norm(r.joints[:11] - SK.joint_positions(qi)[:11],
@@ -533,13 +534,12 @@ def test_one_camera_restarts_on_the_player_who_moved_not_the_still_shirt_it_star
     pictured[0] += 1.2  # the picture: the same pose 1.2 m to the side, painted still
     wall = _paint(pictured, cams, np.random.default_rng(9),
                   rooms=[clutter(480, 640, np.random.default_rng(0))])[0]
-    elbows = [3 + 3 * SK.node_index(n) for n in ("l_elbow", "r_elbow")]
     tr = create_colorshirt_tracker(ColorShirtOptions(), cams, database=db)
     rng = np.random.default_rng(4)
     errs = []
     for i in range(8):
         qi = q.copy()
-        qi[elbows] += 0.3 * (i % 2)  # the player waves and drifts sideways
+        qi[ELBOW_ANGLES] += 0.3 * (i % 2)  # the player waves and drifts sideways
         qi[0] += 0.02 * i
         images = [wall.copy()] if i == 0 else _paint(qi, cams, rng, rooms=[wall])
         r = tr.process(_frameset(images, i))
