@@ -154,6 +154,8 @@ class RoomPlate:
         """This frame's pixels another camera shows as the same room (None: no answer)."""
         self._fg: tuple[NDArray[np.bool_] | None] | None = None
         """This frame's :meth:`foreground`, once asked (None: not yet)."""
+        self._zone: tuple[NDArray[np.bool_] | None] | None = None
+        """:meth:`moved_zone` since the changed pixels last grew (None: not asked)."""
 
     @property
     def known(self) -> NDArray[np.bool_] | None:
@@ -162,39 +164,37 @@ class RoomPlate:
             return None
         return self._count >= self.known_frames
 
-    def _moved_patches(self) -> NDArray[np.uint8] | None:
-        """The pixels seen to change (not with the light) that lie in a changed patch of
-        3 x 3 plate pixels: a player's limb, not a camera's noise (single pixels and
-        pairs, scattered). None before any frame."""
-        if self._moved is None:
-            return None
-        return np.asarray(cv2.morphologyEx(self._moved.astype(np.uint8), cv2.MORPH_OPEN,
-                                           np.ones((3, 3), np.uint8),
-                                           borderType=cv2.BORDER_CONSTANT, borderValue=0),
-                          np.uint8)
-
     def saw_a_player_move(self) -> bool:
         """Whether the pixels seen to change since the plate began hold a patch of at
         least 3 x 3 plate pixels: a player who moved. A camera's noise changes single
         pixels and pairs, scattered (an empty room's second changes hundreds of them),
         never a whole patch; a limb changes patches."""
-        patches = self._moved_patches()
-        return patches is not None and bool(patches.any())
+        return self.moved_zone() is not None
 
     def moved_zone(self) -> NDArray[np.bool_] | None:
-        """Where a player who moved may be: the convex hull of the changed patches
+        """Where a player who moved may be: the convex hull of the changed 3 x 3 patches
         (:meth:`saw_a_player_move`) and everything under it (a still trunk and legs
         under arms that wave). Still room the player never crossed, beside or above
-        it, lies outside. None until a player moved."""
-        patches = self._moved_patches()
-        if patches is None:
+        it, lies outside. None until a player moved. Computed once each time the
+        changed pixels grow (read-only)."""
+        if self._zone is None:
+            self._zone = (self._moved_zone(),)
+        return self._zone[0]
+
+    def _moved_zone(self) -> NDArray[np.bool_] | None:
+        if self._moved is None:
             return None
+        patches = cv2.morphologyEx(self._moved.astype(np.uint8), cv2.MORPH_OPEN,
+                                   np.ones((3, 3), np.uint8),
+                                   borderType=cv2.BORDER_CONSTANT, borderValue=0)
         points = cv2.findNonZero(patches)
         if points is None:
             return None
         zone = np.zeros(patches.shape, np.uint8)
         cv2.fillConvexPoly(zone, cv2.convexHull(points), 1)
-        return np.logical_or.accumulate(zone > 0, axis=0)
+        out = np.logical_or.accumulate(zone > 0, axis=0)
+        out.flags.writeable = False
+        return out
 
     def start(self, small: NDArray[np.uint8] | NDArray[np.float32],
               seen_alike: NDArray[np.bool_] | None = None) -> None:
@@ -210,6 +210,7 @@ class RoomPlate:
             self._run = np.zeros((h, w), np.uint8)
             self._prev = f
             self._moved = np.zeros((h, w), bool)
+            self._zone = None
             self._away = None
         self._small = f
         assert self._count is not None
@@ -269,6 +270,7 @@ class RoomPlate:
             moved = ~still
             self._count[moved] = 0
             self._moved |= moved
+            self._zone = None
         if person is None and not everywhere:
             self._away = None
             return
