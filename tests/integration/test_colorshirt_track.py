@@ -6,6 +6,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pytest
 
@@ -97,6 +98,28 @@ def test_track_rejects_a_folder_without_calibration(tmp_path: Path, capsys) -> N
     code = main(["track", "--input", str(tmp_path), "--out", str(tmp_path / "p.jsonl")])
     assert code == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_track_rejects_an_unknown_tracker_before_opening_the_input(tmp_path: Path,  # type: ignore[no-untyped-def]
+                                                                   capsys) -> None:
+    code = main(["track", "--tracker", "colorshrit", "--input", str(tmp_path / "missing.mp4"),
+                 "--out", str(tmp_path / "p.jsonl")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "unknown tracker 'colorshrit'" in err and "colorshirt" in err and "silhouette" in err
+
+
+def test_track_of_a_video_without_calibration_says_to_pass_calib(tmp_path: Path,  # type: ignore[no-untyped-def]
+                                                                 capsys) -> None:
+    video = tmp_path / "clip.mp4"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 30, (64, 48))
+    for _ in range(3):
+        writer.write(np.zeros((48, 64, 3), np.uint8))
+    writer.release()
+    code = main(["track", "--tracker", "silhouette", "--input", str(video),
+                 "--out", str(tmp_path / "p.jsonl")])
+    assert code == 2
+    assert "pass --calib calib.json" in capsys.readouterr().err
 
 
 def _track_with_and_without_cue(args: list[str], tmp_path: Path, capsys,  # type: ignore[no-untyped-def]

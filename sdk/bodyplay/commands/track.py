@@ -166,7 +166,12 @@ def _draw_silhouette(out: NDArray[np.uint8], result: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Track every frame set, write poses.jsonl (and the overlay); print a summary."""
     from bodyplay.capture.sources import open_source
+    from bodyplay.plugins import PluginRegistry
 
+    installed = PluginRegistry().names("trackers")
+    if args.tracker not in installed:
+        raise ConfigError(f"unknown tracker {args.tracker!r}; installed trackers: "
+                          f"{', '.join(installed)}")
     camera = None
     if getattr(args, "calib", None):
         from bodyplay.capture.camera import read_calib
@@ -174,7 +179,8 @@ def run(args: argparse.Namespace) -> int:
         camera = read_calib(args.calib)[0]
     src = open_source(args.input, camera=camera)
     if src.cameras is None:
-        raise ConfigError(f"{args.input}: no calib.json; the tracker needs calibrated cameras")
+        raise ConfigError(f"{args.input}: no calibration; the tracker needs a calibrated "
+                          f"camera: pass --calib calib.json (made by `bodyplay calibrate`)")
     cams = tuple(src.cameras[: args.cameras] if args.cameras else src.cameras)
     tracker = _make_tracker(args, cams)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
