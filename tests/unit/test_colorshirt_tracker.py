@@ -141,6 +141,16 @@ def test_tracker_rejects_a_frame_of_another_size_than_its_calibration(db) -> Non
     assert tr.process(_frameset([clutter(480, 640, np.random.default_rng(4))], 1)).found is False
 
 
+
+def test_tracker_names_a_gray_frame_and_a_nan_time_and_then_tracks_on(db) -> None:  # type: ignore[no-untyped-def]
+    tr = create_colorshirt_tracker(ColorShirtOptions(), webcam_rig(1), database=db)
+    room = clutter(480, 640, np.random.default_rng(4))
+    with pytest.raises(CaptureError, match="cv2.COLOR_GRAY2RGB"):
+        tr.process(_frameset([room[..., 0].copy()], 0))
+    with pytest.raises(TimestampError, match="capture time in seconds"):
+        tr.process(FrameSet((Frame(room, float("nan"), 1, "cam0"),), float("nan"), 1))
+    assert tr.process(_frameset([room], 2)).found is False
+
 def test_options_and_factory_validate_their_inputs(db) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(ConfigError):
         ColorShirtOptions(threshold=6.0, prior_threshold=5.0)

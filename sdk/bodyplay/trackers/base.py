@@ -7,6 +7,7 @@ factory that validates it (``create_tracker`` in :mod:`bodyplay.trackers`), and 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Literal, Protocol, runtime_checkable
 
@@ -16,7 +17,7 @@ from numpy.typing import NDArray
 from bodyplay.body.joints import JOINT_NAMES, NUM_JOINTS
 from bodyplay.capture.camera import Camera
 from bodyplay.capture.frames import FrameSet
-from bodyplay.errors import CaptureError
+from bodyplay.errors import CaptureError, TimestampError
 
 __all__ = ["JointState", "TrackerCapabilities", "TrackResult", "Tracker", "check_frame_set",
            "lost_result"]
@@ -79,19 +80,37 @@ class TrackResult:
 
 
 def check_frame_set(frames: FrameSet, cameras: tuple[Camera, ...]) -> None:
-    """Raise :class:`CaptureError` unless ``frames`` holds one frame per calibrated
-    camera, each of the size its calibration was made for.
+    """Raise :class:`CaptureError` unless ``frames`` holds one (H, W, 3) uint8 RGB
+    frame per calibrated camera, each of the size its calibration was made for, and
+    :class:`TimestampError` unless its time is a finite number of seconds.
 
     A frame of another size would be read with the wrong intrinsics: the poses come
-    out wrong (or the shirt is never found) with no other sign of why.
+    out wrong (or the shirt is never found) with no other sign of why; a NaN time
+    compares as neither before nor after any other, so the trackers' order checks
+    could not see it.
     """
+    if not math.isfinite(frames.t):
+        raise TimestampError(
+            f"frame set {frames.index} has the time {frames.t}; give every frame set its "
+            "capture time in seconds (a finite number)"
+        )
     if len(frames) != len(cameras):
         raise CaptureError(
             f"got {len(frames)} frames for {len(cameras)} cameras; the frame set "
             "must hold one frame per calibrated camera"
         )
     for frame, cam in zip(frames, cameras, strict=True):
-        h, w = frame.image.shape[:2]
+        image = frame.image
+        if (not isinstance(image, np.ndarray) or image.ndim != 3 or image.shape[2] != 3
+                or image.dtype != np.uint8):
+            what = (f"{image.shape} {image.dtype}" if isinstance(image, np.ndarray)
+                    else type(image).__name__)
+            raise CaptureError(
+                f"frame {frames.index} of camera {cam.name!r} is {what}; trackers need "
+                "(H, W, 3) uint8 RGB images (a gray one: cv2.cvtColor(image, "
+                "cv2.COLOR_GRAY2RGB); floats in 0..1: (image * 255).astype(np.uint8))"
+            )
+        h, w = image.shape[:2]
         if (w, h) != (cam.width, cam.height):
             raise CaptureError(
                 f"frame {frames.index} of camera {cam.name!r} is {w}x{h} but its "

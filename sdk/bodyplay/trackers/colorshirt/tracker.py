@@ -145,13 +145,13 @@ class ColorShirtTracker:
     def process(self, frames: FrameSet) -> TrackResult:
         """Estimate the upper-body pose for one synchronized frame set."""
         t0 = time.perf_counter()
+        check_frame_set(frames, self.cameras)
         if self._last_t is not None and not frames.t > self._last_t:
             raise TimestampError(
                 f"frame set {frames.index} at t={frames.t} is not after t={self._last_t}; "
                 "feed frames in time order (or call reset())"
             )
         self._last_t = frames.t
-        check_frame_set(frames, self.cameras)
         for st in self._cams:
             if st.gate is not None and frames.t - st.gate_t > self.options.gate_time:
                 st.gate = st.last_box = None  # lost too long: search the whole frame
