@@ -22,6 +22,7 @@ from apps.goalkeeper.game.shots import Goal, Shot, plan_round
 from bodyplay.app import GameContext, HandTrace, Marker, plot_hand_motion
 from bodyplay.errors import ConfigError
 from bodyplay.events.types import ContactEvent
+from bodyplay.optiontypes import check_option_types
 from bodyplay.physics import PhysicsObject, PhysicsOptions
 
 __all__ = ["GoalkeeperOptions", "Ball", "Rules", "part_group", "PART_GROUPS"]
@@ -64,6 +65,7 @@ class GoalkeeperOptions:
     linger: float = 0.5
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if not 1 <= self.shots <= 500:
             raise ConfigError(f"shots must be 1..500, got {self.shots}")
         if not 0.05 <= self.ball_radius <= 0.3:

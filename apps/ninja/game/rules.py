@@ -30,6 +30,7 @@ from typing import Any, Literal
 import numpy as np
 
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = [
     "ATTACK_KINDS",
@@ -79,6 +80,9 @@ class NinjaOptions:
     first_attack: float = 1.0
     attack_gap: tuple[float, float] = (2.0, 3.0)
     time_limit: float = 90.0
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def ninja_options(**kwargs: Any) -> NinjaOptions:

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["GameOptions", "make_game_options", "display_available", "VIRTUAL_INPUT"]
 
@@ -84,6 +85,9 @@ class GameOptions:
         d = dataclasses.asdict(self)
         d["out"] = str(self.out)
         return d
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def display_available() -> bool:

@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["ClothOptions"]
 
@@ -84,6 +85,7 @@ class ClothOptions:
     parallel: bool = False
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         _in_range("substep", self.substep, 1e-5, 0.05)
         for name in ("gravity", "wind"):
             v = getattr(self, name)

@@ -41,6 +41,7 @@ from bodyplay.filters.base import (
     lost_mask,
     with_overrides,
 )
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["KalmanOptions", "KalmanJointFilter", "kalman_filter"]
 
@@ -73,6 +74,7 @@ class KalmanOptions:
     backend: Literal["numpy", "filterpy"] = "numpy"
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         _validate(self)
 
 

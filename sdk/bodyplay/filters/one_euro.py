@@ -28,6 +28,7 @@ from bodyplay.filters.base import (
     lost_mask,
     with_overrides,
 )
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["OneEuroOptions", "OneEuroFilter", "one_euro_filter", "smoothing_factor"]
 
@@ -50,6 +51,7 @@ class OneEuroOptions:
     reset_after: float = 0.5
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         _validate(self)
 
 

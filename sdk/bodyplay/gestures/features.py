@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_INDEX
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["FEATURES", "FeatureSpec", "BodyCalibration", "FeatureFrame", "CalibrationOptions"]
 
@@ -60,6 +61,9 @@ class CalibrationOptions:
     velocity_window: float = 0.1
     shift_window: float = 0.5
     upright_band: float = 0.1
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 class BodyCalibration:

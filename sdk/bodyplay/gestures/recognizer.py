@@ -45,6 +45,7 @@ from bodyplay.gestures.features import (
     FeatureFrame,
     VelocityTracker,
 )
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["GestureOptions", "GestureRecognizer", "gesture_options"]
 
@@ -64,6 +65,9 @@ class GestureOptions:
     calibration: CalibrationOptions = field(default_factory=CalibrationOptions)
     emit_started: bool = True
     emit_canceled: bool = True
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def gesture_options(**kwargs: Any) -> GestureOptions:

@@ -33,6 +33,7 @@ from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
 from bodyplay.motion.bvh import BVHClip
 from bodyplay.motion.mapping import LIMB_KEYS, JointMapping, mapping_for
+from bodyplay.optiontypes import check_option_types
 
 if TYPE_CHECKING:
     from bodyplay.motion.clip import MotionClip
@@ -478,6 +479,9 @@ class RetargetOptions:
     clamp: bool = False
     feet_on_floor: bool = True
     mapping: JointMapping | None = None
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def _foot_low(skeleton: Skeleton, poses: NDArray[np.float64]) -> NDArray[np.float64]:

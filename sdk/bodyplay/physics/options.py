@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from bodyplay.body.joints import JOINT_INDEX, JOINT_NAMES
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = [
     "PhysicsOptions",
@@ -181,6 +182,9 @@ class PhysicsOptions:
     def radius(self, spec: PartSpec, height: float) -> float:
         """The radius in metres of a part for a player ``height`` metres tall."""
         return float(getattr(self, spec.radius)) * height
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def _finite(v: object) -> bool:

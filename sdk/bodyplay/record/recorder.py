@@ -23,6 +23,7 @@ import cv2
 from bodyplay.capture.frames import FrameSet
 from bodyplay.errors import CaptureError, ConfigError
 from bodyplay.events.types import Event
+from bodyplay.optiontypes import check_option_types
 from bodyplay.record.format import FORMAT, VERSION, event_line
 
 __all__ = ["RecorderOptions", "Recorder", "EventLogWriter", "record_session"]
@@ -54,6 +55,9 @@ class RecorderOptions:
         if not 1 <= self.jpeg_quality <= 100:
             raise ConfigError(f"jpeg_quality must be 1..100, got {self.jpeg_quality}")
         return self
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 class _LineFile:

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = [
     "CropResult",
@@ -463,6 +464,7 @@ class IdMapRendererOptions:
     near: float = 1e-3
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         _check_size(self.width, self.height)
         if not self.near > 0:
             raise ConfigError(f"near depth {self.near} must be positive")

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.capture.camera import Camera
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 from bodyplay.render.accumulate import Accumulation, FloatAccumulator, mesh_window
 from bodyplay.render.gl import (
     GLContextError,
@@ -165,6 +166,7 @@ class ShadedRendererOptions:
     background_fit: Literal["fill", "cover"] = "fill"
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if not (0 < self.width <= 8192 and 0 < self.height <= 8192):
             raise ConfigError(f"render size {self.width}x{self.height} must be 1..8192 a side")
         if self.samples not in (0, 2, 4, 8):

@@ -35,6 +35,7 @@ from bodyplay.errors import CaptureError, ConfigError, SessionError
 from bodyplay.events.bus import EventBus, FrameErrorEvent
 from bodyplay.events.types import Event, PoseEvent, TrackingEvent
 from bodyplay.filters.base import JointFilter
+from bodyplay.optiontypes import check_option_types
 from bodyplay.runtime.clock import Clock, SystemClock, TimestampGuard
 from bodyplay.runtime.sources import UPPER_BODY_ONLY, PoseSample
 
@@ -113,6 +114,9 @@ class SessionOptions:
         d = dataclasses.asdict(self)
         d["capabilities"] = list(self.capabilities)
         return d
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def _blocked_in(thread: threading.Thread) -> str:

@@ -17,6 +17,7 @@ from typing import Any
 
 from bodyplay.body.shapes import body_shape
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 from bodyplay.synth.backgrounds import resolve_background
 from bodyplay.synth.lighting import lighting_preset
 from bodyplay.synth.occluder import Occlusion, parse_occlusion
@@ -84,6 +85,9 @@ class SyntheticCameraOptions:
         if "size" in kw:
             kw["size"] = tuple(kw["size"])
         return make_synthetic_camera_options(**kw)
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def parse_size(text: str) -> tuple[int, int]:

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from bodyplay.body.joints import JOINT_INDEX, NUM_JOINTS
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = [
     "RigOptions",
@@ -57,6 +58,9 @@ class RigOptions:
     baseline: float | None = None
     k1: float = 0.0
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def make_rig_options(

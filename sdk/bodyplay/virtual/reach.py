@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bodyplay.body.skeleton import Skeleton
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 from bodyplay.testing.timeline import slerp_poses
 from bodyplay.virtual.idle import IdleMotion
 from bodyplay.virtual.reach_ik import (
@@ -109,6 +110,9 @@ class ReachOptions:
     reaction_jitter: float = 0.0
     stance: str = "ready"
     ready_hands: tuple[float, float, float] = (0.28, 0.2, 0.3)
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
 
 
 def make_reach_options(**kwargs: Any) -> ReachOptions:

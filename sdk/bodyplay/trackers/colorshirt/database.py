@@ -28,6 +28,7 @@ from bodyplay.body.skinning import SkinnedMesh
 from bodyplay.capture.camera import Camera, look_at
 from bodyplay.errors import ConfigError
 from bodyplay.files import default_cache_dir, load_cache, save_cache
+from bodyplay.optiontypes import check_option_types
 from bodyplay.render.idmap import rasterize_ids
 
 __all__ = ["DatabaseOptions", "PoseDatabase", "Neighbours", "BlendedPose", "canonical_camera",
@@ -57,6 +58,7 @@ class DatabaseOptions:
     margin: float = 0.05
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if self.size < 20:
             raise ConfigError("the pose database needs at least 20 poses")
         if self.map_size % _POOL or self.map_size < 8:

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["LocateOptions", "ShirtLocation", "ShirtLocator", "BackgroundMask", "chroma_bins",
            "reduce_box", "reduce_image"]
@@ -41,6 +42,7 @@ class LocateOptions:
     min_uniformity: float = 0.45
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if self.stride < 1:
             raise ConfigError("locate stride must be at least 1 pixel")
         if not self.scales or any(s <= 0 or s > 1 for s in self.scales):

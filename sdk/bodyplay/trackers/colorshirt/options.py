@@ -8,6 +8,7 @@ import numpy as np
 
 from bodyplay.body.shapes import BODY_SHAPES
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 from bodyplay.overrides import options_with_overrides
 from bodyplay.trackers.colorshirt.bodyselect import ARM_SCALES
 from bodyplay.trackers.colorshirt.locate import LocateOptions
@@ -146,6 +147,7 @@ class ColorShirtOptions:
     locate: LocateOptions = field(default_factory=LocateOptions)
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         for name, lo, hi, lo_open, unit in _RANGES:
             value = getattr(self, name)
             finite = isinstance(value, int) or bool(np.isfinite(value))  # ints of any size

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 
 from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
 
 __all__ = ["BackgroundOptions", "HierarchyOptions", "SilhouetteOptions", "LEVEL_SIZES"]
 
@@ -73,6 +74,7 @@ class BackgroundOptions:
     learn_away: int = 12
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if self.threshold <= 0 or self.min_std <= 0 or not 0 < self.rate < 1:
             raise ConfigError("background threshold and min_std must be > 0, rate in (0, 1)")
         if self.learn_after < 1 or self.relearn_after < self.learn_after:
@@ -137,6 +139,7 @@ class HierarchyOptions:
     membership_beta: float = 5.0
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if len(self.membership) != 3 or any(m not in ("prototype", "member", "both")
                                             for m in self.membership):
             raise ConfigError("membership must name, per level 1..3, 'prototype', 'member' "
@@ -365,6 +368,7 @@ class SilhouetteOptions:
     cache: str | None = None
 
     def __post_init__(self) -> None:
+        check_option_types(self)
         if not 0 <= self.head_depth_weight <= 1 or self.head_depth_window < 0:
             raise ConfigError("head_depth_weight must be in [0, 1] (0: floor point alone) and "
                               "head_depth_window >= 0 seconds")

@@ -1,0 +1,73 @@
+"""Specifications of the type check every options dataclass runs when it is made
+(``bodyplay.optiontypes.check_option_types``)."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from dataclasses import dataclass
+from typing import Literal
+
+import pytest
+
+from bodyplay.cloth import ClothOptions
+from bodyplay.errors import ConfigError
+from bodyplay.optiontypes import check_option_types
+from bodyplay.physics import PhysicsOptions
+from bodyplay.runtime.session import SessionOptions
+from bodyplay.trackers.colorshirt import ColorShirtOptions
+from bodyplay.trackers.silhouette import SilhouetteOptions
+
+
+@dataclass(frozen=True)
+class _PluginOptions:
+    gain: float = 1.0
+    steps: int = 3
+    mode: Literal["fast", "exact"] = "fast"
+    window: tuple[float, float] = (0.5, 1.5)
+    weights: tuple[float, ...] = (1.0,)
+    label: str | None = None
+    enabled: bool = True
+
+    def __post_init__(self) -> None:
+        check_option_types(self)
+
+
+def test_defaults_of_every_options_class_pass() -> None:
+    for cls in (SessionOptions, ColorShirtOptions, SilhouetteOptions, PhysicsOptions,
+                ClothOptions, _PluginOptions):
+        cls()
+
+
+@pytest.mark.parametrize(("field", "value", "says"), [
+    ("gain", "1.0", "_PluginOptions.gain takes a number, got '1.0' (str)"),
+    ("gain", float("nan"), "takes a number, got nan"),
+    ("gain", None, "takes a number, got None"),
+    ("gain", True, "takes a number, got True (bool)"),
+    ("steps", 2.5, "takes a whole number, got 2.5"),
+    ("mode", "slow", "takes one of 'fast', 'exact', got 'slow'"),
+    ("window", (1.0,), "takes a tuple of 2 values"),
+    ("window", (1.0, "x"), "takes a tuple of 2 values"),
+    ("weights", 1.0, "takes a tuple, each item a number, got 1.0"),
+    ("label", 3, "takes a string or None"),
+    ("enabled", "yes", "takes True or False"),
+])
+def test_a_value_that_does_not_fit_its_hint_is_named_with_what_the_option_takes(
+        field: str, value: object, says: str) -> None:
+    with pytest.raises(ConfigError, match=re.escape(says)):
+        _PluginOptions(**{field: value})  # type: ignore[arg-type]
+
+
+def test_infinity_is_a_number_and_a_list_becomes_the_hinted_tuple() -> None:
+    options = _PluginOptions(gain=float("inf"), weights=[1.0, 2])  # type: ignore[arg-type]
+    assert options.weights == (1.0, 2)
+    assert hash(options) == hash(dataclasses.replace(options))
+
+
+def test_the_trackers_options_reject_nan_and_strings_before_their_range_checks() -> None:
+    with pytest.raises(ConfigError, match="SilhouetteOptions.lost_after takes a number, got nan"):
+        SilhouetteOptions(lost_after=float("nan"))
+    with pytest.raises(ConfigError, match="ColorShirtOptions.threshold takes a number"):
+        ColorShirtOptions(threshold="3")  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match="SilhouetteOptions.hierarchy takes a HierarchyOptions"):
+        SilhouetteOptions(hierarchy="default")  # type: ignore[arg-type]
