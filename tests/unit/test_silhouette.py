@@ -571,6 +571,15 @@ def test_options_reject_nonsense() -> None:
         SilhouetteOptions(beta=0.0)
 
 
+@pytest.mark.parametrize("field", ["explore", "min_height", "box_below", "depth_window",
+                                   "max_recession", "bootstrap_time"])
+def test_options_reject_a_negative_count_length_or_time(field: str) -> None:
+    from bodyplay.trackers.silhouette.options import SilhouetteOptions
+
+    with pytest.raises(ConfigError, match=field):
+        SilhouetteOptions(**{field: -1})  # type: ignore[arg-type]
+
+
 def test_factory_needs_a_camera_and_uses_the_first_of_a_rig(silhouette_tree) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.capture.camera import Camera
     from bodyplay.trackers.silhouette import create_silhouette_tracker

@@ -439,3 +439,11 @@ class SilhouetteOptions:
                               "select_wait >= 0 seconds")
         if self.select_frames < 1 or self.lost_after < 0 or not 0 <= self.smooth < 1:
             raise ConfigError("select_frames >= 1, lost_after >= 0 and smooth in [0, 1)")
+        if self.explore < 0 or self.min_height <= 0 or self.box_below < 0:
+            raise ConfigError(f"explore must be >= 0 nodes, min_height > 0 metres and box_below "
+                              f">= 0 metres, got {self.explore}, {self.min_height}, "
+                              f"{self.box_below}")
+        if self.depth_window < 0 or self.max_recession < 0 or self.bootstrap_time < 0:
+            raise ConfigError(f"depth_window and bootstrap_time must be >= 0 seconds and "
+                              f"max_recession >= 0 m/s, got {self.depth_window}, "
+                              f"{self.bootstrap_time}, {self.max_recession}")
