@@ -273,6 +273,13 @@ def test_run_respects_max_frames_and_resumes() -> None:
     assert s.step() is None
 
 
+@pytest.mark.parametrize("max_frames", [-1, "10", 2.5, True])
+def test_run_rejects_max_frames_that_is_not_a_whole_number(max_frames: object) -> None:
+    s = create_session(source=ArrayPoseSource(_walk(3)), clock=ManualClock())
+    with pytest.raises(ConfigError, match="max_frames must be a whole number"):
+        s.run(max_frames=max_frames)  # type: ignore[arg-type]
+
+
 def test_options_are_validated_by_the_factory() -> None:
     with pytest.raises(ConfigError, match="lost_after"):
         create_session(SessionOptions(lost_after=0), source=[])

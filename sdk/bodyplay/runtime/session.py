@@ -388,8 +388,10 @@ class Session:
     def run(self, max_frames: int | None = None) -> int:
         """Process frames in the calling thread until the source ends, ``max_frames``
         have been consumed or :meth:`stop` is called; return the frames consumed."""
-        if max_frames is not None and max_frames < 0:
-            raise ConfigError(f"max_frames must be >= 0, got {max_frames}")
+        if max_frames is not None and (not isinstance(max_frames, int | np.integer)
+                                       or isinstance(max_frames, bool) or max_frames < 0):
+            raise ConfigError(f"max_frames must be a whole number >= 0 (or None: until the "
+                              f"source ends), got {max_frames!r}")
         start = self.frames
         while not self.done and not self._stop.is_set():
             if max_frames is not None and self.frames - start >= max_frames:
