@@ -7,7 +7,8 @@ player's size relative to the reference body, ``e`` the shirt's own bias).
 :class:`RootDepthFilter` combines them in an extended Kalman filter (filterpy) on
 ``[depth, depth speed, s, b, e]``. A reading beyond ``gate`` variances is left out,
 a floor reading further than one std beyond the prediction too (feet leaving the
-floor); ``max_rejects`` rejections in a row restart the depth. Beyond the paper.
+floor); ``max_rejects`` floor readings left out in a row restart the depth from the
+feet. Beyond the paper.
 
 Per frame: :meth:`RootDepthFilter.begin`, :meth:`RootDepthFilter.posterior` for
 each candidate fit (nothing committed), :meth:`RootDepthFilter.end` with the
@@ -38,7 +39,8 @@ class RootDepthFilter:
     (fraction of the depth): the readings' stds; ``scale_std``, ``floor_bias_std``,
     ``shirt_bias``, ``shirt_bias_std``: the priors of ``s``, ``b`` (m) and ``e``;
     ``gate``: squared innovation, in variances, beyond which a reading is left out;
-    ``max_rejects``: rejections in a row that restart the depth from the reading;
+    ``max_rejects``: floor readings left out in a row that restart the depth from the
+    feet (the shirt's readings have no restart: the filter starts from them);
     ``horizon``: seconds without a reading after which the depth lapses (``s``,
     ``b``, ``e`` stay).
     """
@@ -60,7 +62,8 @@ class RootDepthFilter:
     """Time of the last reading taken in (the depth lapses ``horizon`` after it)."""
     t_floor: float = float("nan")
     """Time of the last floor reading taken in."""
-    rejects: dict[str, int] = field(default_factory=lambda: {"floor": 0, "shirt": 0})
+    floor_rejects: int = 0
+    """Floor readings left out in a row."""
     kf: KalmanFilter | None = field(default=None, repr=False)
     _floor: float | None = field(default=None, repr=False)
     """This frame's floor reading, folded in with the fit's readings."""
@@ -230,19 +233,10 @@ class RootDepthFilter:
             self.t_read = t
         if took["floor"]:
             self.t_floor = t
-            self.rejects["floor"] = 0
+            self.floor_rejects = 0
         elif took["floor_rejected"]:
-            self.rejects["floor"] += 1
-            if self.rejects["floor"] >= self.max_rejects and self._floor is not None:
+            self.floor_rejects += 1
+            if self.floor_rejects >= self.max_rejects and self._floor is not None:
                 self._keep_body()
                 self._start(*self._from_floor(self._floor))
                 self.t_read = self.t_floor = t
-        if good_shirt and not took["shirt"]:
-            self.rejects["shirt"] += 1
-            if self.rejects["shirt"] >= self.max_rejects:  # the shirt was right
-                assert shirt is not None
-                self._keep_body()
-                self._start(*self._from_shirt(shirt))
-                self.t = self.t_read = t
-        elif took["shirt"]:
-            self.rejects["shirt"] = 0
