@@ -71,3 +71,48 @@ def test_the_trackers_options_reject_nan_and_strings_before_their_range_checks()
         ColorShirtOptions(threshold="3")  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="SilhouetteOptions.hierarchy takes a HierarchyOptions"):
         SilhouetteOptions(hierarchy="default")  # type: ignore[arg-type]
+
+
+def _options_classes() -> list[type]:
+    from apps.goalkeeper.game.rules import GoalkeeperOptions
+    from apps.ninja.game.rules import NinjaOptions
+    from bodyplay.app.options import GameOptions
+    from bodyplay.filters.kalman import KalmanOptions
+    from bodyplay.filters.one_euro import OneEuroOptions
+    from bodyplay.gestures.features import CalibrationOptions
+    from bodyplay.gestures.recognizer import GestureOptions
+    from bodyplay.motion.retarget import RetargetOptions
+    from bodyplay.record.recorder import RecorderOptions
+    from bodyplay.render.idmap import IdMapRendererOptions
+    from bodyplay.render.shaded import ShadedRendererOptions
+    from bodyplay.synth.options import SyntheticCameraOptions
+    from bodyplay.synth.rig import RigOptions
+    from bodyplay.trackers.colorshirt.database import DatabaseOptions
+    from bodyplay.trackers.colorshirt.locate import LocateOptions
+    from bodyplay.trackers.silhouette.options import BackgroundOptions, HierarchyOptions
+    from bodyplay.virtual.reach import ReachOptions
+
+    return [SessionOptions, ColorShirtOptions, SilhouetteOptions, PhysicsOptions, ClothOptions,
+            GoalkeeperOptions, NinjaOptions, GameOptions, KalmanOptions, OneEuroOptions,
+            CalibrationOptions, GestureOptions, RetargetOptions, RecorderOptions,
+            IdMapRendererOptions, ShadedRendererOptions, SyntheticCameraOptions, RigOptions,
+            DatabaseOptions, LocateOptions, BackgroundOptions, HierarchyOptions, ReachOptions]
+
+
+_JUNK = ["x", None, float("nan"), float("inf"), -1, -1.5, 0, 10**9, (), (1.0, "x"), [3], {}]
+
+
+def test_no_options_class_answers_a_junk_value_with_anything_but_a_config_error() -> None:
+    surprises = []
+    for cls in _options_classes():
+        for field in dataclasses.fields(cls):
+            for junk in _JUNK:
+                try:
+                    options = cls(**{field.name: junk})
+                    getattr(options, "validate", lambda: None)()
+                except ConfigError:
+                    pass
+                except Exception as error:  # noqa: BLE001 - collected and reported below
+                    surprises.append(f"{cls.__name__}.{field.name}={junk!r}: "
+                                     f"{type(error).__name__}: {error}")
+    assert not surprises, "\n".join(surprises)
