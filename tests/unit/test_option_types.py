@@ -76,6 +76,7 @@ def test_the_trackers_options_reject_nan_and_strings_before_their_range_checks()
 def _options_classes() -> list[type]:
     from apps.goalkeeper.game.rules import GoalkeeperOptions
     from apps.ninja.game.rules import NinjaOptions
+
     from bodyplay.app.options import GameOptions
     from bodyplay.filters.kalman import KalmanOptions
     from bodyplay.filters.one_euro import OneEuroOptions
