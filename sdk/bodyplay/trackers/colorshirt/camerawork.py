@@ -95,6 +95,23 @@ def _ids_box(view: CameraView) -> tuple[int, int, int, int]:
     return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
 
+def _box_share(zone: NDArray[np.bool_] | None, view: CameraView) -> float:
+    """The share of ``view``'s shirt box that plate-resolution ``zone`` covers (or 0)."""
+    if zone is None:
+        return 0.0
+    h, w = zone.shape
+    x0, y0, x1, y1 = reduce_box(_ids_box(view), _REDUCE, w, h)
+    if x1 <= x0 or y1 <= y0:
+        return 0.0
+    return float(zone[y0:y1, x0:x1].mean())
+
+
+def _full_size(mask: NDArray[np.bool_], image: NDArray[np.uint8]) -> NDArray[np.bool_]:
+    """A plate-resolution ``mask`` at ``image``'s size (nearest neighbour)."""
+    return cv2.resize(mask.astype(np.uint8), (image.shape[1], image.shape[0]),
+                      interpolation=cv2.INTER_NEAREST) > 0
+
+
 def _player_region(view: CameraView, cam: Camera) -> NDArray[np.bool_]:
     """Where the player of ``view``'s shirt may stand, at the plates' resolution: the
     floor cue's region around the shirt's classified pixels, down to the image's
@@ -205,14 +222,11 @@ class CameraWork:
             if empty is not None:
                 bx0, by0, bx1, by1 = st.last_box
                 sl = (slice(max(by0, 0), max(by1, 0)), slice(max(bx0, 0), max(bx1, 0)))
-                seen = cv2.resize(empty.astype(np.uint8), (image.shape[1], image.shape[0]),
-                                  interpolation=cv2.INTER_NEAREST) > 0
-                mask[sl] |= seen[sl]
+                mask[sl] |= _full_size(empty, image)[sl]
         room = st.room.foreground() if o.room_plate else None
         full = None
         if room is not None:  # pixels the room plate knows as room are not the player
-            full = cv2.resize(room.astype(np.uint8), (image.shape[1], image.shape[0]),
-                              interpolation=cv2.INTER_NEAREST) > 0
+            full = _full_size(room, image)
             mask = full if mask is None else mask & full
         region = None
         if st.last_box is not None:  # search near the shirt's last position first
@@ -223,29 +237,20 @@ class CameraWork:
         if count <= 1 or tracked:
             loc = self.locator.locate(image, mask, region)
             st.located = loc.found
-            trial = st if count <= 1 else dataclasses.replace(
-                st, references=copy.deepcopy(st.references))
-            view = self._view_at(i, trial, image, mask, loc, t) if loc.found else None
             if count <= 1:
+                view = self._view_at(i, st, image, mask, loc, t) if loc.found else None
                 if view is not None:
                     self.commit(st, view, confirmed)
                 return [] if view is None else [view]
-            if view is not None:
-                view.state = trial
-                out.append(view)
+            out = [self._trial_view(i, st, image, mask, loc, t)] if loc.found else []
         # MOG2 holds only what moved: the candidates see all but the known room
         # (the tracker asks MOG2 whether each moved, :meth:`moved`), anywhere in
         # the frame (no gate)
         locs = self.locator.candidates(image, full, count)
         st.located = st.located or bool(locs)
-        for loc in locs:  # each with the white balance it would choose alone
-            trial = dataclasses.replace(st, references=copy.deepcopy(st.references),
-                                        gate=None, last_box=None)
-            view = self._view_at(i, trial, image, full, loc, t)
-            if view is not None:
-                view.state = trial
-                out.append(view)
-        return out
+        out += [self._trial_view(i, st, image, full, loc, t, anywhere=True)
+                for loc in locs]  # each with the white balance it would choose alone
+        return [v for v in out if v is not None]
 
     def moved(self, st: CameraState, view: CameraView) -> bool | None:
         """Whether MOG2 saw this frame change within ``view``'s classified box (None:
@@ -264,11 +269,9 @@ class CameraWork:
         zone = st.room.moved_zone() if self.options.room_plate else None
         if image is None or zone is None:
             return None
-        h, w = image.shape[:2]
-        mask = cv2.resize(zone.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        mask = _full_size(zone, image)
         room = st.room.foreground()
-        known = None if room is None else cv2.resize(
-            room.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        known = None if room is None else _full_size(room, image)
         loc = self.locator.locate(image, mask if known is None else mask & known, None)
         if not loc.found:
             return None
@@ -278,38 +281,21 @@ class CameraWork:
             cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
         if known is not None:  # pixels the room plate knows as room are not the player
             mask &= known
-        trial = dataclasses.replace(st, references=copy.deepcopy(st.references),
-                                    gate=None, last_box=None)
-        view = self._view_at(i, trial, image, mask, loc, t)
-        if view is not None:
-            view.state = trial
-        return view
+        return self._trial_view(i, st, image, mask, loc, t, anywhere=True)
 
     def moved_share(self, st: CameraState, view: CameraView | None) -> float:
         """The share of ``view``'s shirt box lying where the room plate saw a player move
         (:meth:`.plate.RoomPlate.moved_zone`; 0 before anything moved, or without a
         view): how much of the region is a player rather than still room."""
-        zone = st.room.moved_zone() if self.options.room_plate and view is not None else None
-        if zone is None or view is None:
+        if view is None or not self.options.room_plate:
             return 0.0
-        h, w = zone.shape
-        x0, y0, x1, y1 = reduce_box(_ids_box(view), _REDUCE, w, h)
-        if x1 <= x0 or y1 <= y0:
-            return 0.0
-        return float(zone[y0:y1, x0:x1].mean())
+        return _box_share(st.room.moved_zone(), view)
 
     def seen_empty(self, st: CameraState, view: CameraView) -> bool:
         """Whether the room plate learned most of ``view``'s shirt box on frames without
         a player (:attr:`.plate.RoomPlate.empty_room`): a region nothing moved in
         there was room while the tracker watched, not a player who came and stood."""
-        empty = st.room.empty_room
-        if empty is None:
-            return False
-        h, w = empty.shape
-        x0, y0, x1, y1 = reduce_box(_ids_box(view), _REDUCE, w, h)
-        if x1 <= x0 or y1 <= y0:
-            return False
-        return float(empty[y0:y1, x0:x1].mean()) >= _EMPTY_ROOM
+        return _box_share(st.room.empty_room, view) >= _EMPTY_ROOM
 
     def commit(self, st: CameraState, view: CameraView, confirmed: bool) -> None:
         """``view`` (of :meth:`views`) is the shirt: its camera keeps what it chose."""
@@ -319,6 +305,19 @@ class CameraWork:
             view.state = None
         if self.options.floor_cue or self.options.head_cue:
             st.floor.shirt_at(_ids_box(view), confirmed=confirmed)
+
+    def _trial_view(self, i: int, st: CameraState, image: NDArray[np.uint8],
+                    mask: NDArray[np.bool_] | None, loc: ShirtLocation, t: float,
+                    anywhere: bool = False) -> CameraView | None:
+        """:meth:`_view_at` on a copy of ``st`` (its own white balance; ``anywhere``:
+        without the gate and the last box), kept in the view's ``state`` for :meth:`commit`."""
+        trial = dataclasses.replace(st, references=copy.deepcopy(st.references))
+        if anywhere:
+            trial.gate = trial.last_box = None
+        view = self._view_at(i, trial, image, mask, loc, t)
+        if view is not None:
+            view.state = trial
+        return view
 
     def _view_at(self, i: int, st: CameraState, image: NDArray[np.uint8],
                  mask: NDArray[np.bool_] | None, loc: ShirtLocation, t: float
