@@ -164,21 +164,15 @@ class ColorShirtTracker:
         if starting:
             views, fresh = self._start_views(frames, confirmed)
             if fresh and self._alone is not None:  # a new hypothesis replaces a lone
-                self._prev = None  # camera's track
-                self._gate.clear()
-                if self._selection is not None:
-                    self._selection.previous.clear()
+                self._forget_track()  # camera's track
         else:
             views = [v for i in range(len(frames))
                      for v in self._work.views(i, self._cams[i], frames.t, confirmed, 1)]
             moved = self._moved_restart(views, frames.t)
             if moved is not None:  # the track lies in still room, the player moved
                 views, fresh = moved, True
-                self._prev = None
-                self._gate.clear()
+                self._forget_track()
                 self._depth = self._new_depth()
-                if self._selection is not None:
-                    self._selection.previous.clear()
         views = [v for v in views if v.distance <= self.options.max_mismatch]
         self.diagnostics = {}
         root_height = (float(self._prev[1]) if self._prev is not None
@@ -231,6 +225,13 @@ class ColorShirtTracker:
             self._depth.end(frames.t, cast("float | None", self.diagnostics.get("shirt_depth")))
         return self._result(frames, fit.q, fit.seen, fit.views, t0)
 
+    def _forget_track(self) -> None:
+        """A start chose afresh: the last pose and every body's previous fit are no prior."""
+        self._prev = None
+        self._gate.clear()
+        if self._selection is not None:
+            self._selection.previous.clear()
+
     def _lost(self, frames: FrameSet, t0: float, starting: bool) -> TrackResult:
         """No pose this frame; the room plates learn what they may without one."""
         self._prev = None
@@ -267,14 +268,11 @@ class ColorShirtTracker:
             cands[0] += [] if found is None else [found]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
         tracked = [] if lone is None else cands[lone]
-        saved = self._lone
         start = self._choose(cands, tracked, lone)
         if len(self.cameras) == 1 and start.views is not None:
             lying = self._work.moved_share(self._cams[0], start.views[0]) >= MOVED_SHARE
             self._unscored = None if lying else 0
         self._held = start.held
-        self._lone = saved
-        self.diagnostics = {}
         chosen = tracked if start.views is None else start.views
         for i, st in enumerate(self._cams):  # a camera without a chosen region: room
             st.located = any(v.index == i for v in chosen)
@@ -286,14 +284,13 @@ class ColorShirtTracker:
     def _choose(self, cands: list[list[CameraView]], tracked: list[CameraView],
                 lone: int | None) -> StartChoice:
         """:func:`.start.choose_start` over ``cands`` (per camera), each combination
-        fitted without the depth filter (``_lone`` is None while it judges; the caller
-        puts it back)."""
+        fitted without the depth filter (``_lone`` is None while it judges)."""
         o = self.options
         moved = {id(v): self._work.moved(self._cams[v.index], v)
                  for i, c in enumerate(cands) if i != lone for v in c}
         band = (o.start_root_band[0] * self.skeleton.pelvis_height,
                 o.start_root_band[1] * self.skeleton.pelvis_height)
-        self._lone = None  # judged without the depth filter
+        saved, self._lone = self._lone, None  # judged without the depth filter
 
         def fit(chosen: list[CameraView]) -> StartFit | None:
             self.diagnostics = {}
@@ -302,10 +299,12 @@ class ColorShirtTracker:
                 return None
             return f.q, len(f.seen), f.residual
 
-        return choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
-                            o.background_subtraction,
-                            lambda v: self._work.seen_empty(self._cams[v.index], v),
-                            lambda v: self._work.moved_share(self._cams[v.index], v))
+        start = choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
+                             o.background_subtraction,
+                             lambda v: self._work.seen_empty(self._cams[v.index], v),
+                             lambda v: self._work.moved_share(self._cams[v.index], v))
+        self._lone, self.diagnostics = saved, {}
+        return start
 
     def _moved_restart(self, views: list[CameraView], t: float) -> list[CameraView] | None:
         """One camera whose track started on a region lying in nothing that moved (a
@@ -331,9 +330,7 @@ class ColorShirtTracker:
         if (found is None or found.distance > self.options.max_mismatch
                 or work.moved_share(st, found) < MOVED_SHARE):
             return None  # nothing found there
-        saved = self._lone
         start = self._choose([[found]], [], None)
-        self._lone, self.diagnostics = saved, {}
         if start.views is None:
             return None
         self._unscored = None
