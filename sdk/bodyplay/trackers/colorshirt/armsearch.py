@@ -57,11 +57,8 @@ def color_distance_maps(ids: NDArray[np.uint8], colors: tuple[int, ...] | None =
     h, w = ids.shape
     out = np.empty((NUM_COLORS, h, w), np.float32)
     for k in range(NUM_COLORS):
-        if colors is not None and k not in colors:
-            out[k] = 1.0e4
-            continue
         src = np.not_equal(ids, k + 1).view(np.uint8)  # 0 on the color
-        if not src.size or src.all():
+        if (colors is not None and k not in colors) or not src.size or src.all():
             out[k] = 1.0e4
         else:
             out[k] = cv2.distanceTransform(src, cv2.DIST_L2, 3)
