@@ -141,6 +141,8 @@ class CameraWork:
             if options.measurement_noise > 0 else color_model)
         """The classifier: ``color_model`` with the W-amplified measurement noise."""
         self.locator = ShirtLocator(options.locate)
+        self._plate = options.floor_cue or options.head_cue
+        """Whether the floor cue's background plate runs (the floor and head cues read it)."""
         self._undistort = [c.undistort_maps() for c in cameras]
         self.crossview = (CrossView(len(cameras)) if options.cross_view and len(cameras) > 1
                           else None)
@@ -170,14 +172,13 @@ class CameraWork:
         """A new frame set: each camera's image undistorted and reduced, and its room
         plate started (with another camera's view of the room where it has one)."""
         o = self.options
-        plate = o.floor_cue or o.head_cue
         for i, (st, image) in enumerate(zip(states, images, strict=True)):
             maps = self._undistort[i]
             if maps is not None:
                 image = np.asarray(cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR),
                                    np.uint8)
             st.image, st.reduced = image, None
-            if o.background_subtraction or plate or o.room_plate:
+            if o.background_subtraction or self._plate or o.room_plate:
                 st.reduced = st.background.reduce(image)
         if not o.room_plate:
             return
@@ -204,11 +205,10 @@ class CameraWork:
         o = self.options
         image, reduced = st.image, st.reduced
         assert image is not None, "prepare() the frame first"
-        plate = o.floor_cue or o.head_cue
         mask = st.background.apply(image, reduced) if o.background_subtraction else None
-        if reduced is not None and plate:
+        if reduced is not None and self._plate:
             st.floor.start(reduced, reduced=True)
-        if reduced is not None and plate and not confirmed and (count <= 1 or
+        if reduced is not None and self._plate and not confirmed and (count <= 1 or
                                                                   st.last_box is not None):
             # until the first pose the plate learns every frame (a start frame once
             # the tracker has judged its regions: :meth:`learn_room`)
@@ -303,7 +303,7 @@ class CameraWork:
             st.W, st.last_fraction = view.state.W, view.state.last_fraction
             st.references = view.state.references
             view.state = None
-        if self.options.floor_cue or self.options.head_cue:
+        if self._plate:
             st.floor.shirt_at(_ids_box(view), confirmed=confirmed)
 
     def _trial_view(self, i: int, st: CameraState, image: NDArray[np.uint8],
@@ -324,7 +324,6 @@ class CameraWork:
                  ) -> CameraView | None:
         """Crop, classification and database match of the shirt located at ``loc``."""
         o = self.options
-        plate = o.floor_cue or o.head_cue
         gate = self._gate_box(st, t)
         if gate is not None and not (gate[0] <= loc.x <= gate[2] and gate[1] <= loc.y <= gate[3]):
             return None  # not where the shirt can be: leave W and the plate alone
@@ -344,7 +343,7 @@ class CameraWork:
         if mask is not None:
             cmask = cv2.resize(mask[y0:y1, x0:x1].astype(np.uint8), (cw, chh),
                                interpolation=cv2.INTER_NEAREST) > 0
-        if plate and o.plate_mask:  # MOG2 has the player's last box as foreground
+        if self._plate and o.plate_mask:  # MOG2 has the player's last box as foreground
             pm = st.floor.crop_foreground((x0, y0, x1, y1), (cw, chh))
             if pm is not None:
                 alone = len(self.cameras) <= o.plate_mask_alone_cameras
@@ -487,7 +486,7 @@ class CameraWork:
         for i, cam in enumerate(self.cameras):
             still = [_player_region(v, cam) for v in held or [] if v.index == i]
             skip.append(np.logical_or.reduce(still) if still else None)
-        if held is not None and not ever_reported and (o.floor_cue or o.head_cue):
+        if held is not None and not ever_reported and self._plate:
             for st, sk in zip(states, skip, strict=True):
                 if sk is None:  # a start frame (see :meth:`views`) without a still shirt
                     st.floor.no_shirt()
