@@ -293,7 +293,6 @@ class ColorShirtTracker:
         saved, self._lone = self._lone, None  # judged without the depth filter
 
         def fit(chosen: list[CameraView]) -> StartFit | None:
-            self.diagnostics = {}
             f = self._estimate([copy.copy(v) for v in chosen], None)
             if not np.isfinite(f.residual) or not self._plausible(f.q, f.views):
                 return None
@@ -367,7 +366,6 @@ class ColorShirtTracker:
         for name in racing:
             body = self._bodies[name]
             self._use(body)
-            self.diagnostics = {}
             fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name),
                                  search_one=not judging, placed=placed)
             if not self._plausible(fit.q, fit.views):
@@ -393,7 +391,6 @@ class ColorShirtTracker:
         fit, judged = fits[best]
         o = self.options
         if judging and len(views) == 1 and o.arm_search:  # report with the arm search
-            self.diagnostics = {}
             report = self._estimate([copy.copy(v) for v in views], sel.previous.get(best),
                                     search_one=True, placed=placed)
             if self._plausible(report.q, report.views):
@@ -434,12 +431,14 @@ class ColorShirtTracker:
     def _estimate(self, views: list[CameraView], prev_q: NDArray[np.float64] | None,
                   search_one: bool = True, placed: NDArray[np.float64] | None = None
                   ) -> BodyFit:
-        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame.
+        """Blend, 6-DOF fit, reclassification and IK of the active body for one frame
+        (:attr:`diagnostics` start afresh).
 
         ``search_one``: whether a frame one camera sees gets the arm search;
         ``placed``: :meth:`_placed` of ``views`` if already known.
         """
         o = self.options
+        self.diagnostics = {}
         q_b = self._placed(views) if placed is None else placed.copy()
         anchors, _ = self._anchors(q_b, views, refine=False)
         q_b, root_priors = self._place_root(q_b, anchors)
