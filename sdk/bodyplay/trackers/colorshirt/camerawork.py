@@ -460,10 +460,7 @@ class CameraWork:
         verts, torso = every[cached[1]], every[cached[2]]
         for cam, st in zip(self.cameras, states, strict=True):
             st.torso_box = _image_box(cam, torso)
-            box = _image_box(cam, verts)
-            if box is None:
-                st.gate = None
-                continue
+            box = _image_box(cam, verts) or (0, 0, 0, 0)  # none in front: an empty box
             x0, y0 = max(box[0], 0), max(box[1], 0)
             x1, y1 = min(box[2], cam.width), min(box[3], cam.height)
             if x1 - x0 < 4 or y1 - y0 < 4:
