@@ -345,7 +345,6 @@ class ColorShirtTracker:
         sel = self._selection
         assert sel is not None
         fits: dict[str, tuple[BodyFit, dict[str, object]]] = {}
-        residuals: dict[str, float] = {}
         stagger, limit = self._floor.stagger, self.options.body_choice_max_stagger
         judging = not (len(views) == 1 and not self._arm_stage_started and np.isfinite(limit)
                        and (stagger is None or stagger > limit))
@@ -364,8 +363,7 @@ class ColorShirtTracker:
             racing += extra
         placed = self._placed(views)  # body-independent: once for all candidates
         for name in racing:
-            body = self._bodies[name]
-            self._use(body)
+            self._use(self._bodies[name])
             fit = self._estimate([copy.copy(v) for v in views], sel.previous.get(name),
                                  search_one=not judging, placed=placed)
             if not self._plausible(fit.q, fit.views):
@@ -373,11 +371,10 @@ class ColorShirtTracker:
                 continue
             sel.previous[name] = fit.q
             fits[name] = (fit, self.diagnostics)
-            residuals[name] = fit.residual
         if not judging:
             sel.skip(self._reference)  # one view, no measure of distance: size unknown
         else:
-            sel.add(residuals)
+            sel.add({name: fitted.residual for name, (fitted, _) in fits.items()})
         if sel.chosen is not None:
             best = sel.chosen
         elif sel.seen > 0 or self._arm_stage_started or self._reference not in self._bodies:
