@@ -57,8 +57,9 @@ def _describe(hint: Any) -> str:
 
 
 def _fits(value: Any, hint: Any) -> Any:
-    """``value`` itself (a list made a tuple) when it fits ``hint``; ``None`` wrapped in
-    a ``ValueError`` when it does not; :data:`_UNCHECKED` for hints not checked."""
+    """``value`` itself when it fits ``hint`` (a list where a tuple is hinted: the
+    tuple), :data:`_UNCHECKED` for a hint this does not check; raises ``ValueError``
+    when it does not fit."""
     origin = typing.get_origin(hint)
     args = typing.get_args(hint)
     if hint is Any:
