@@ -57,7 +57,7 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
+def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...], plugins: Any) -> Any:
     if args.tracker == "colorshirt":
         from bodyplay.trackers.colorshirt import (
             ColorShirtOptions,
@@ -87,7 +87,7 @@ def _make_tracker(args: argparse.Namespace, cameras: tuple[Any, ...]) -> Any:
         raise ConfigError(f"--set applies to the colorshirt and silhouette trackers' "
                           f"options, not to {args.tracker!r}")
     # any other tracker plugin (entry point group ``bodyplay.trackers``), default options
-    return create_tracker(args.tracker, cameras)
+    return create_tracker(args.tracker, cameras, registry=plugins)
 
 
 def _silhouette_options(items: list[str]) -> Any:
@@ -168,7 +168,8 @@ def run(args: argparse.Namespace) -> int:
     from bodyplay.capture.sources import open_source
     from bodyplay.plugins import PluginRegistry
 
-    installed = PluginRegistry().names("trackers")
+    plugins = PluginRegistry()
+    installed = plugins.names("trackers")
     if args.tracker not in installed:
         raise ConfigError(f"unknown tracker {args.tracker!r}; installed trackers: "
                           f"{', '.join(installed)}")
@@ -182,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"{args.input}: no calibration; the tracker needs a calibrated "
                           f"camera: pass --calib calib.json (made by `bodyplay calibrate`)")
     cams = tuple(src.cameras[: args.cameras] if args.cameras else src.cameras)
-    tracker = _make_tracker(args, cams)
+    tracker = _make_tracker(args, cams, plugins)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     ms: list[float] = []
     writer_box: list[Any] = [None]
