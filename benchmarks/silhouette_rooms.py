@@ -73,7 +73,12 @@ from bodyplay.trackers.silhouette import (
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import machine  # noqa: E402
-from colorshirt_validation import CLUTTER_ROOMS, room_path  # noqa: E402
+from colorshirt_validation import (  # noqa: E402
+    BODIES,
+    CLUTTER_ROOMS,
+    room_path,
+    start_fraction,
+)
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 BANDAI = DATA / "mocap" / "bandai_namco"
@@ -140,28 +145,44 @@ def short(clip: str) -> str:
     return clip
 
 
-def plan(half: str, per_room: int) -> list[tuple[str, str, float]]:
-    """(room, clip, start) of a half: room *i* shows clips *i*, *i* + 1, ... of the
-    half's list; Bandai clips only when ../shared holds them."""
+def plan(half: str, per_room: int, draw: int = 0) -> list[tuple[str, str, float]]:
+    """(room, clip, start) of a half: room *i* shows clips *i* + ``draw``, *i* +
+    ``draw`` + 1, ... of the half's list; Bandai clips only when ../shared holds them.
+    A start of -1 (every ``draw`` but 0) is :func:`capture`'s part of the clip."""
     clips = [c for c in CLIPS[half] if not c[0].startswith("dataset") or BANDAI.is_dir()]
     out = []
     for i, room in enumerate(ROOMS[half]):
         for k in range(min(per_room, len(clips))):
-            clip, start = clips[(i + k) % len(clips)]
-            out.append((room, clip, start))
+            clip, start = clips[(i + k + draw) % len(clips)]
+            out.append((room, clip, start if draw == 0 else -1.0))
     return out
 
 
-def capture(work: Path, room: str, clip: str, start: float, seconds: float) -> Path:
-    """The one-camera capture of a clip in a room, rendered once (no lead-in)."""
-    out = work / "captures" / f"{room}_{short(clip)}_{start:g}_{seconds:g}s"
+def capture(work: Path, room: str, clip: str, start: float, seconds: float,
+            draw: int = 0, index: int = 0) -> Path:
+    """The one-camera capture of a clip in a room, rendered once (no lead-in).
+
+    ``draw`` 0 is the set every figure so far was measured on; a later draw is a
+    fresh set nobody has tuned on, as ``colorshirt_validation.py``'s: another part of
+    the clip (``start`` -1: its golden-ratio walk), another body preset and camera
+    seed for the ``index``-th capture, other pictures of the generated rooms."""
+    if start < 0:
+        from bodyplay.motion.clip import load_clip
+
+        full = load_clip(str(BANDAI / f"{clip}.bvh") if clip.startswith("dataset") else clip)
+        start = round(start_fraction(draw) * max(0.0, full.duration - seconds), 2)
+    key = f"{room}_{short(clip)}_{start:g}_{seconds:g}s"
+    body = BODIES[(index + draw) % len(BODIES)]
+    out = work / "captures" / (key if draw == 0 else f"{key}_{body}_d{draw}")
     if not (out / "truth.jsonl").exists():
         src = str(BANDAI / f"{clip}.bvh") if clip.startswith("dataset") else clip
-        background = (room_path(work, room) if room in CLUTTER_ROOMS
+        background = (room_path(work, room, draw) if room in CLUTTER_ROOMS
                       else photo_room(work) if room == "photo" else room)
         tmp = out.with_name(f"{out.name}.tmp{os.getpid()}")  # renamed once complete
         cmd = [sys.executable, "-m", "bodyplay.cli", "synth", "--clip", src, "--out", str(tmp),
                "--seconds", str(seconds), "--start", str(start), "--background", background]
+        if draw:
+            cmd += ["--body", body, "--seed", str(1000 * draw + index)]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         shutil.rmtree(out, ignore_errors=True)
         tmp.rename(out)
@@ -245,35 +266,38 @@ def main(argv: list[str] | None = None) -> int:
                         "the same clips in the room the tracker was tuned in, `--in brick`)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a SilhouetteOptions field (background.NAME, hierarchy.NAME)")
+    p.add_argument("--draw", type=int, default=0,
+                   help="a fresh set nobody has tuned on (N >= 1): another part of each "
+                        "clip, body, camera seed and pictures of the generated rooms")
     p.add_argument("--list", action="store_true", help="print the plan of both halves")
     p.add_argument("--json", help="also write the per-capture rows to this file")
     args = p.parse_args(argv)
     if args.list:
         for half in ("tune", "report", "photo"):
-            for room, clip, start in plan(half, args.clips_per_room):
-                print(f"{half:6s} {room:10s} {short(clip)} from {start:g} s")
+            for room, clip, start in plan(half, args.clips_per_room, args.draw):
+                print(f"{half:6s} {room:10s} {short(clip)} from "
+                      + (f"{start:g} s" if start >= 0 else f"draw {args.draw}'s part"))
         return 0
     work = Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
     options = options_with_overrides(SilhouetteOptions(), args.set)
     only = set(args.rooms.split(",")) if args.rooms else None
-    todo = [t for t in plan(args.half, args.clips_per_room) if only is None or t[0] in only]
-    if args.same:  # the same clips, all in one room (rows keep their room's name)
-        todo = [(args.same, clip, start) for _, clip, start in todo]
-        names = [t[0] for t in plan(args.half, args.clips_per_room)
-                 if only is None or t[0] in only]
-    else:
-        names = [t[0] for t in todo]
+    planned = [(i, t) for i, t in enumerate(plan(args.half, args.clips_per_room, args.draw))
+               if only is None or t[0] in only]  # i: the capture's body and seed
+    names = [t[0] for _, t in planned]
+    todo = [(args.same, clip, start) if args.same else (room, clip, start)
+            for _, (room, clip, start) in planned]  # --in: the same clips in one room
     print(f"# silhouette tracker in {len(set(names))} rooms"
           + (f" (all of it in {args.same})" if args.same else "") + f", half {args.half}, "
           f"{datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, {machine()}"
+          + (f", draw {args.draw}" if args.draw else "")
           + (f", set {' '.join(args.set)}" if args.set else ""), flush=True)
     tree = load_or_build_tree(options.hierarchy, progress=False)
     rows = []
     t0 = time.perf_counter()
     done: dict[Path, dict[str, Any]] = {}  # with --in, a capture may come twice
-    for (room, clip, start), name in zip(todo, names, strict=True):
-        folder = capture(work, room, clip, start, args.seconds)
+    for (index, _), (room, clip, start), name in zip(planned, todo, names, strict=True):
+        folder = capture(work, room, clip, start, args.seconds, args.draw, index)
         if folder not in done:
             done[folder] = track(folder, options, tree)
         r = dict(done[folder])
