@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from bodyplay.errors import ConfigError
-from bodyplay.trackers.silhouette.armfit import ArmFitter, arm_atlas
+from bodyplay.trackers.silhouette.armfit import ARM_BODIES, ArmFitter, arm_atlas
+from bodyplay.trackers.silhouette.armless import ArmlessBody
 from bodyplay.trackers.silhouette.distance import distance_maps
 from bodyplay.trackers.silhouette.options import SilhouetteOptions
 from bodyplay.trackers.silhouette.window import WindowGeometry
@@ -76,42 +77,131 @@ def test_arm_atlas_spreads_its_arms_over_where_elbow_and_wrist_can_be(skeleton) 
         arm_atlas(skeleton, [], 0, rng)
 
 
-def test_arm_fitter_raises_the_arm_the_silhouette_shows_raised(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+def _armless(skeleton, geo, pose, origin, body):  # type: ignore[no-untyped-def]
+    """The body the arms are scored against at the fitter's level (None: the template
+    less the arms' capsules)."""
+    return ArmlessBody(skeleton, geo, level=1).mask(pose, origin) if body == "torso" else None
+
+
+@pytest.mark.parametrize("body", ARM_BODIES)
+def test_arm_fitter_raises_the_arm_the_silhouette_shows_raised(skeleton, atlas, body) -> None:  # type: ignore[no-untyped-def]
     down = _pose(skeleton, -1.4, 1.4)
     raised = _pose(skeleton, 1.2, 1.4)  # the left arm up, the right arm still down
     geo, tmpl, cost, origin, ref = _setup(skeleton, down, raised)
+    armless = _armless(skeleton, geo, down, origin, body)
     want = skeleton.joint_positions(raised)
     before = np.linalg.norm(skeleton.joint_positions(down)[L_WRIST] - want[L_WRIST])
-    fitter = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0)
+    fitter = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0, body=body)
     cols = fitter.cols[0]
     # with the seen arm in the atlas, the silhouette alone (stay 0) finds it up to
     # what a silhouette cannot tell: depth, and 1.8 cm pixels
-    exact = ArmFitter(skeleton, geo, np.vstack([atlas, raised[cols]]), stay=0.0, margin=100.0)
-    fit = exact.fit(down, origin, tmpl, cost, (0.0, 0.0), ref)
+    exact = ArmFitter(skeleton, geo, np.vstack([atlas, raised[cols]]), stay=0.0, margin=100.0,
+                      body=body)
+    fit = exact.fit(down, origin, tmpl, cost, (0.0, 0.0), ref, armless)
     assert fit.replaced == (True, False)
     got = skeleton.joint_positions(fit.pose)
     assert np.linalg.norm((got[L_WRIST] - want[L_WRIST])[:2]) < 0.1
     np.testing.assert_allclose(got[R_WRIST], want[R_WRIST])
     # without it, the nearest atlas arm (about 15 cm apart in the atlas) gets it much nearer
-    fit = fitter.fit(down, origin, tmpl, cost, (0.0, 0.0), ref)
+    fit = fitter.fit(down, origin, tmpl, cost, (0.0, 0.0), ref, armless)
     assert fit.replaced == (True, False)
     got = skeleton.joint_positions(fit.pose)
     assert before > 0.9 and np.linalg.norm(got[L_WRIST] - want[L_WRIST]) < 0.6 * before
 
 
-def test_arm_fitter_keeps_the_arms_the_silhouette_agrees_with(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+@pytest.mark.parametrize("body", ARM_BODIES)
+def test_arm_fitter_keeps_the_arms_the_silhouette_agrees_with(skeleton, atlas, body) -> None:  # type: ignore[no-untyped-def]
     pose = _pose(skeleton, 0.3, -0.2)  # arms out to the sides
     geo, tmpl, cost, origin, ref = _setup(skeleton, pose, pose)
-    fit = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0).fit(
-        pose, origin, tmpl, cost, (0.0, 0.0), ref)
+    fit = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0, body=body).fit(
+        pose, origin, tmpl, cost, (0.0, 0.0), ref, _armless(skeleton, geo, pose, origin, body))
     assert fit.replaced == (False, False)
     np.testing.assert_array_equal(fit.pose, pose)
 
 
+def _across_the_torso(skeleton):  # type: ignore[no-untyped-def]
+    """The left arm hanging in front of the torso, its forearm across the belly; the
+    right arm down at the side."""
+    q = _pose(skeleton, -1.4, 1.4).copy()
+    q[3 + 3 * skeleton.node_index("l_shoulder")] = 0.8
+    q[3 + 3 * skeleton.node_index("l_shoulder") + 1] = -1.0
+    q[3 + 3 * skeleton.node_index("l_elbow") + 1] = -1.2
+    return skeleton.clamp(q[None])[0]
+
+
+def _refined(skeleton, atlas, tree_pose, seen_pose, **kwargs):  # type: ignore[no-untyped-def]
+    """The tracker's call: ``tree_pose`` the MAP leaf (and the reported pose) at the
+    origin of a level-3 window, ``seen_pose`` the observed silhouette; the reported
+    joints after the refinement."""
+    from bodyplay.trackers.silhouette.templates import render_templates
+
+    geo = WindowGeometry()
+    r = render_templates(skeleton, np.stack([tree_pose, seen_pose]), geo, levels=(1, 2))
+    origin = tree_pose[0:3] - r.offset[0]
+    cost = distance_maps(r.runs[0].masks()[1], beta=5.0).cost
+    joints = skeleton.joint_positions(tree_pose) - origin
+    fitter = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0, **kwargs)
+    got, _ = fitter.refine_reported(tree_pose, r.offset[0], r.runs[1].masks()[0], (0, 0), cost,
+                                    joints, tree_pose, np.eye(3), np.zeros(3))
+    return got
+
+
+def test_a_raised_arm_is_raised_beside_a_torso_the_tree_hangs_that_arm_in_front_of(  # type: ignore[no-untyped-def]
+        skeleton, atlas) -> None:
+    tree = _across_the_torso(skeleton)
+    raised = _pose(skeleton, 1.2, 1.4)
+    want = skeleton.joint_positions(raised)[L_WRIST] - skeleton.joint_positions(tree)[0]
+    got = _refined(skeleton, atlas, tree, raised)
+    assert np.linalg.norm(got[L_WRIST] - got[0] - want) < 0.3
+    # scored against the template less the arms' capsules, the tree's arm is credited
+    # with the torso it hides and outweighs the raised arm's fit
+    kept = _refined(skeleton, atlas, tree, raised, body="template")
+    assert np.linalg.norm(kept[L_WRIST] - kept[0] - want) > 0.8
+
+
+def test_an_arm_across_the_torso_the_silhouette_shows_is_kept(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+    tree = _across_the_torso(skeleton)
+    got = _refined(skeleton, atlas, tree, tree)
+    geo = WindowGeometry()
+    from bodyplay.trackers.silhouette.templates import render_templates
+
+    origin = tree[0:3] - render_templates(skeleton, tree[None], geo, levels=(2,)).offset[0]
+    np.testing.assert_array_equal(got, skeleton.joint_positions(tree) - origin)
+
+
+def test_armless_body_is_the_template_without_the_arms(skeleton) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.body.joints import JOINT_INDEX
+    from bodyplay.trackers.silhouette.templates import render_templates
+
+    geo = WindowGeometry()
+    pose = _pose(skeleton, 0.3, -1.4)  # the left arm out to the side, the right one down
+    r = render_templates(skeleton, pose[None], geo, levels=(2,))
+    full = r.runs[0].masks()[0] > 0
+    origin = pose[0:3] - r.offset[0]
+    armless = ArmlessBody(skeleton, geo).mask(pose, origin) > 0
+    assert armless.shape == full.shape
+    assert not np.any(armless & ~full)  # nothing the template does not hold
+    view = geo.template_view(2)
+    J = skeleton.joint_positions(pose) - origin
+    px = np.round(view.project(J, distort=False)).astype(int)
+    for j, on in (("l_wrist", False), ("l_elbow", False), ("head", True), ("pelvis", True),
+                  ("l_knee", True), ("r_ankle", True)):
+        x, y = px[JOINT_INDEX[j]]
+        assert full[y, x] and armless[y, x] == on, j
+    # the arms are all it leaves out: about a sixth of the template
+    assert 0.75 < armless.sum() / full.sum() < 0.92
+
+
 def test_silhouette_options_reject_negative_arm_settings() -> None:
-    for bad in ({"arm_candidates": -1}, {"arm_stay": -1.0}, {"arm_margin": -5.0}):
+    for bad in ({"arm_candidates": -1}, {"arm_stay": -1.0}, {"arm_margin": -5.0},
+                {"arm_body": "hole"}):
         with pytest.raises(ConfigError):
             SilhouetteOptions(**bad)  # type: ignore[arg-type]
+
+
+def test_arm_fitter_refuses_an_unknown_body(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(ConfigError):
+        ArmFitter(skeleton, WindowGeometry(), atlas, body="hole")
 
 
 def _plain_capsule_costs(pts: np.ndarray, radii: np.ndarray, cost: np.ndarray,

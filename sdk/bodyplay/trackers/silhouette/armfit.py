@@ -9,8 +9,13 @@ cm off on wave-right-hand; the best leaf of the whole tree by silhouette distanc
 has it down too). A silhouette shows each arm separately, and the distance of eq.
 10-11 is linear in the template mask, so an arm can be searched on its own:
 
-* the body without the arm: the MAP leaf's template less the arm's own capsules
-  (upper arm, forearm, hand as thick segments of the body's measured radii);
+* the body without the arms: the MAP leaf rendered without its arms
+  (:mod:`.armless`, ``body="torso"``: where the torso lies behind an arm it is
+  the torso's whatever the arm does), or the leaf's template less its arms'
+  capsules (upper arm, forearm, hand as thick segments of the body's measured
+  radii; ``body="template"``: a leaf whose arm hangs in front of the torso leaves a
+  hole over torso silhouette, and its own arm, filling it again, is credited with
+  the torso it hid);
 * every arm of an *atlas* (configurations spread evenly over where an arm can put
   its elbow and wrist, :func:`arm_atlas`: real arms of the training pose set and
   random ones within the joint limits) is put on the leaf's shoulder and drawn as
@@ -40,14 +45,19 @@ from bodyplay.body.joints import JOINT_INDEX
 from bodyplay.body.rotations import rodrigues_into
 from bodyplay.body.skeleton import NODE_NAMES, NODE_PARENTS, Skeleton
 from bodyplay.errors import ConfigError
+from bodyplay.trackers.silhouette.armless import ArmlessBody
 from bodyplay.trackers.silhouette.recombine import (
     LIMB_GROUPS,
     limb_columns,
     random_limb_config,
 )
+from bodyplay.trackers.silhouette.stature import shifted
 from bodyplay.trackers.silhouette.window import WindowGeometry
 
-__all__ = ["ArmFit", "ArmFitter", "arm_atlas"]
+__all__ = ["ARM_BODIES", "ArmFit", "ArmFitter", "arm_atlas"]
+
+ARM_BODIES = ("torso", "template")
+"""What the arms are scored against (:class:`ArmFitter`'s ``body``)."""
 
 _RADII = (0.05, 0.04, 0.035)  # upper arm, forearm, hand (m): the body mesh's medians
 _HAND = 0.17  # the hand capsule runs this far on along the forearm (finger tips, m)
@@ -284,12 +294,17 @@ class ArmFitter:
 
     ``atlas``: left-arm configurations (rows of the left arm's pose columns: the
     clavicle, shoulder, elbow and wrist rotation vectors); the right arm uses their
-    mirror images.
+    mirror images. ``body``: what the arms are scored against, ``"torso"`` the leaf
+    rendered without its arms (:mod:`.armless`) or ``"template"`` its template less
+    the arms' capsules (see the module docstring).
     """
 
     def __init__(self, skeleton: Skeleton, geometry: WindowGeometry,
                  atlas: NDArray[np.float64], level: int = 1, stay: float = 1.0,
-                 margin: float = 10.0) -> None:
+                 margin: float = 10.0, body: str = "torso") -> None:
+        if body not in ARM_BODIES:
+            raise ConfigError(f"the arms' body must be one of {ARM_BODIES}, got {body!r}")
+        self.armless = ArmlessBody(skeleton, geometry) if body == "torso" else None
         self.skeleton = skeleton
         self.level = level
         self.stay = stay
@@ -333,18 +348,21 @@ class ArmFitter:
 
     def fit(self, pose: NDArray[np.float64], origin: NDArray[np.float64],
             template: NDArray[np.uint8], cost: NDArray[np.float32],
-            shift: tuple[float, float], reference: NDArray[np.float64]) -> ArmFit:
+            shift: tuple[float, float], reference: NDArray[np.float64],
+            armless: NDArray[np.uint8] | None = None) -> ArmFit:
         """Refine both arms of ``pose`` (the leaf's pose vector; its template ``template``
         at this level, already moved by ``shift``, the fitted position in this
         level's pixels; ``origin`` what the template frame subtracts from world
         nodes: the pose's root less its anchor offset) against ``cost``, A of the
         observation. ``reference``: (17, 3) the joints the tracker would report
-        otherwise, template frame: the body without the arms is the template less
-        those arms, and an atlas arm must beat them by ``margin``, paying ``stay``
-        per pixel its elbow and wrist move from them."""
+        otherwise, template frame: an atlas arm must beat them by ``margin``, paying
+        ``stay`` per pixel its elbow and wrist move from them. The body without the
+        arms: ``armless`` (the leaf rendered without its arms at this level, placed
+        as ``template``; :class:`.armless.ArmlessBody`) when given, else the template less
+        the capsules of the leaf's and the reference's arms."""
         sk = self.skeleton
         q = np.asarray(pose, np.float64).copy()
-        body = (np.asarray(template) > 0).astype(np.uint8)
+        body = (np.asarray(template if armless is None else armless) > 0).astype(np.uint8)
         frames = sk.forward(q[None])[0]
         own_nodes = frames[:, :3, 3] - origin
         refs = []
@@ -352,7 +370,7 @@ class ArmFitter:
             ref = np.asarray(reference)[list(self.joints[s])][None]
             own = own_nodes[list(self.chain[s][:3])][None]
             refs.append(ref)
-            for chain in (own, ref):  # the body without its arms (capsules 1 px wider)
+            for chain in (own, ref) if armless is None else ():  # capsules 1 px wider
                 px = self._pixels(chain, shift)
                 if np.isfinite(px).all():
                     arm = np.zeros_like(body)
@@ -388,6 +406,14 @@ class ArmFitter:
                 gains[s] = gain
         return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
 
+    def _at_level(self, mask: NDArray[np.uint8]) -> NDArray[np.uint8]:
+        """A level-3 (320x240) window mask at this fitter's level (a 2x2 block is on
+        when at least half of it is)."""
+        if self.level == 2:
+            return mask
+        return (cv2.resize(mask.astype(np.float32), self.size, interpolation=cv2.INTER_AREA)
+                >= 0.5).astype(np.uint8)
+
     def refine_reported(self, leaf_pose: NDArray[np.float64], leaf_offset: NDArray[np.float64],
                         placed: NDArray[np.uint8], shift: tuple[int, int],
                         cost: NDArray[np.float32], joints: NDArray[np.float64],
@@ -405,13 +431,13 @@ class ArmFitter:
         standing at ``at``."""
         f = 2.0 ** (self.level - 2)
         sh = (shift[0] * f, shift[1] * f)
-        tmpl = placed
-        if self.level != 2:  # the leaf's own template (level 3) at this level
-            tmpl = (cv2.resize(tmpl.astype(np.float32), self.size, interpolation=cv2.INTER_AREA)
-                    >= 0.5).astype(np.uint8)
         origin = leaf_pose[0:3] - leaf_offset
+        tmpl = self._at_level(placed)
+        armless = None
+        if self.armless is not None:  # rendered as the template was, placed as it is
+            armless = self._at_level(shifted(self.armless.mask(leaf_pose, origin), shift))
         reference = (joints - at) @ R_align  # the reported joints, template frame
-        fit = self.fit(leaf_pose, origin, tmpl, cost, sh, reference)
+        fit = self.fit(leaf_pose, origin, tmpl, cost, sh, reference, armless)
         if not any(fit.replaced):
             return joints, pose
         J = (self.skeleton.joint_positions(fit.pose) - origin) @ R_align.T + at

@@ -266,7 +266,12 @@ class SilhouetteOptions:
     refinement off), ``arm_stay`` the cost per window pixel (level 2) an atlas arm's
     elbow and wrist move from the tree's arm, ``arm_margin`` how much cheaper (sum
     of eq. 11's per-pixel term) it must be to replace it (on the tune clips: off
-    12.9 cm mean of clip medians, 11.1 with these);
+    12.9 cm mean of clip medians, 11.1 with these); ``arm_body``: what the arms are
+    scored against, ``"torso"`` the leaf rendered without its arms (:mod:`.armless`:
+    only what the torso, head and legs do not cover is the arms' to win or lose) or
+    ``"template"`` the leaf's template less its arms' capsules (a leaf whose arm hangs
+    in front of the torso credits that arm with the torso it hides, and a raised arm
+    the silhouette shows loses to it: docs/silhouette-history.md, sections 16, 17, 20);
     ``width_frames``: the body's girth (torso and limbs' thickness; not its joints)
     is measured on the reported pose over that many frames after the body is
     chosen (:mod:`.bodywidth`: the preset's mesh at girth factors 0.9 to
@@ -350,6 +355,7 @@ class SilhouetteOptions:
     arm_candidates: int = 1000
     arm_stay: float = 3.0
     arm_margin: float = 100.0
+    arm_body: str = "torso"
     width_frames: int = 30
     width_max: float = 1.4
     head_depth_weight: float = 0.0
@@ -390,6 +396,8 @@ class SilhouetteOptions:
         if self.arm_candidates < 0 or self.arm_stay < 0 or self.arm_margin < 0:
             raise ConfigError("arm_candidates (0: no per-arm refinement), arm_stay and "
                               "arm_margin must be >= 0")
+        if self.arm_body not in ("torso", "template"):  # armfit.ARM_BODIES
+            raise ConfigError(f"arm_body must be 'torso' or 'template', got {self.arm_body!r}")
         if self.width_frames < 0 or not 1.0 <= self.width_max <= 2.0:
             raise ConfigError("width_frames must be >= 0 (0: the preset's own girth) and "
                               f"width_max within 1..2, got {self.width_frames}, {self.width_max}")

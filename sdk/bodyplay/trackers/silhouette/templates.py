@@ -22,7 +22,7 @@ from bodyplay.render.idmap import rasterize_ids
 from bodyplay.trackers.silhouette.distance import TemplateRuns, encode_runs
 from bodyplay.trackers.silhouette.window import WindowGeometry, anchor_point, floor_point
 
-__all__ = ["PART_NAMES", "RenderedTemplates", "render_templates", "node_part"]
+__all__ = ["PART_NAMES", "RenderedTemplates", "node_part", "project_view", "render_templates"]
 
 PART_NAMES = ("torso", "l_arm", "r_arm", "l_leg", "r_leg")
 """Body parts of the occlusion-aware dynamic model (eq. 14)."""
@@ -52,7 +52,9 @@ class RenderedTemplates:
     part_pixels: NDArray[np.int64]
 
 
-def _project(verts: NDArray[np.float32], cam: Camera) -> NDArray[np.float32]:
+def project_view(verts: NDArray[np.float32], cam: Camera) -> NDArray[np.float32]:
+    """Vertices (..., 3) in the world -> (..., 3) pixel x, pixel y and depth in ``cam``
+    (no distortion: the window's views have none), as :func:`rasterize_ids` takes them."""
     pc = verts.astype(np.float64) @ cam.R.T + cam.t
     z = pc[..., 2]
     out = np.empty(verts.shape, np.float32)
@@ -80,7 +82,7 @@ def render_templates(skeleton: Skeleton, poses: NDArray[np.float64], geometry: W
         q = np.asarray(poses[s : s + chunk], np.float64)
         verts = mesh.pose(skeleton, q)
         w3, h3 = geometry.size(2)
-        first = rasterize_ids(_project(verts, views[2]), mesh.faces, face_ids, w3, h3,
+        first = rasterize_ids(project_view(verts, views[2]), mesh.faces, face_ids, w3, h3,
                               cull_backfaces=True)
         anchors = np.zeros((len(q), 3))
         for i in range(len(q)):
@@ -92,7 +94,7 @@ def render_templates(skeleton: Skeleton, poses: NDArray[np.float64], geometry: W
         shifted = verts - anchors[:, None, :].astype(np.float32)
         for lv in levels:
             w, h = geometry.size(lv)
-            ids = rasterize_ids(_project(shifted, views[lv]), mesh.faces, face_ids, w, h,
+            ids = rasterize_ids(project_view(shifted, views[lv]), mesh.faces, face_ids, w, h,
                                 cull_backfaces=True)
             if lv == 2:
                 for p in range(len(PART_NAMES)):

@@ -585,7 +585,8 @@ class SilhouetteTracker:
         if fitter is None:
             assert self._atlas is not None  # built in __init__ when arm_candidates > 0
             fitter = ArmFitter(self._skeletons[body], self.geometry, self._atlas,
-                               stay=self.options.arm_stay, margin=self.options.arm_margin)
+                               stay=self.options.arm_stay, margin=self.options.arm_margin,
+                               body=self.options.arm_body)
             self._fitters[body] = fitter
         q = self.tree.poses[self.tree.node_pose[2][step.leaf]].copy()
         q[1] *= ratio
