@@ -276,3 +276,33 @@ def test_bounded_capsule_costs_skip_only_arms_that_cannot_be_the_cheapest() -> N
     best = np.min(plain + extra)
     assert np.all(plain[~scored] + extra[~scored] > best)
     assert np.argmin(bounded + extra) == np.argmin(plain + extra)
+
+
+def test_silhouette_along_the_torsos_outline_credits_no_arm(skeleton, atlas) -> None:  # type: ignore[no-untyped-def]
+    """The torso's own misfit (silhouette just outside the body without its arms)
+    is not taken by an arm; silhouette beyond it is."""
+    import cv2
+
+    from bodyplay.trackers.silhouette.armfit import MISFIT_BAND
+
+    pose = _pose(skeleton, 0.3, -0.2)  # arms out to the sides, over background
+    geo, tmpl, _, origin, ref = _setup(skeleton, pose, pose)
+    body = ArmlessBody(skeleton, geo, level=1).mask(pose, origin)
+    band = int(round(MISFIT_BAND / geo.mpp(1)))
+
+    def ring(inner: int, outer: int) -> np.ndarray:
+        def grown(r: int) -> np.ndarray:
+            disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+            return cv2.dilate(body, disc) > 0
+        return grown(outer) & ~(grown(inner) if inner else body > 0)
+
+    def best_data_term(silhouette: np.ndarray) -> float:
+        cost = np.where(silhouette, -20.0, 5.0).astype(np.float32)  # background dear
+        fitter = ArmFitter(skeleton, geo, atlas, stay=3.0, margin=100.0)
+        fitter.debug = []
+        fitter.fit(pose, origin, tmpl, cost, (0.0, 0.0), ref, body)
+        return min(float(d[5]) for d in fitter.debug)  # the best arm's sum, either side
+
+    assert band == 2
+    assert best_data_term(ring(0, band)) >= 0.0  # no arm is credited with any of it
+    assert best_data_term(ring(band, 2 * band + 1)) < -100.0

@@ -11,7 +11,9 @@ has it down too). A silhouette shows each arm separately, and the distance of eq
 
 * the body without the arms: the MAP leaf rendered without its arms
   (:mod:`.armless`, ``body="torso"``: where the torso lies behind an arm it is
-  the torso's whatever the arm does), or the leaf's template less its arms'
+  the torso's whatever the arm does; silhouette within :data:`MISFIT_BAND` of its
+  outline is the torso's own misfit and credits no arm, though an arm there still
+  pays for background), or the leaf's template less its arms'
   capsules (upper arm, forearm, hand as thick segments of the body's measured
   radii; ``body="template"``: a leaf whose arm hangs in front of the torso leaves a
   hole over torso silhouette, and its own arm, filling it again, is credited with
@@ -54,10 +56,16 @@ from bodyplay.trackers.silhouette.recombine import (
 from bodyplay.trackers.silhouette.stature import shifted
 from bodyplay.trackers.silhouette.window import WindowGeometry
 
-__all__ = ["ARM_BODIES", "ArmFit", "ArmFitter", "arm_atlas"]
+__all__ = ["ARM_BODIES", "MISFIT_BAND", "ArmFit", "ArmFitter", "arm_atlas"]
 
 ARM_BODIES = ("torso", "template")
 """What the arms are scored against (:class:`ArmFitter`'s ``body``)."""
+
+MISFIT_BAND = 0.036
+"""Silhouette within this distance (m; 2 pixels at level 2) of the body rendered
+without its arms is the body's own misfit and credits no arm (chosen on the tune
+captures over three tree seeds: 0, 1, 2, 3 pixels gave a mean of 10.7, 10.5, 10.3,
+10.4 cm)."""
 
 _RADII = (0.05, 0.04, 0.035)  # upper arm, forearm, hand (m): the body mesh's medians
 _HAND = 0.17  # the hand capsule runs this far on along the forearm (finger tips, m)
@@ -358,8 +366,9 @@ class ArmFitter:
         otherwise, template frame: an atlas arm must beat them by ``margin``, paying
         ``stay`` per pixel its elbow and wrist move from them. The body without the
         arms: ``armless`` (the leaf rendered without its arms at this level, placed
-        as ``template``; :class:`.armless.ArmlessBody`) when given, else the template less
-        the capsules of the leaf's and the reference's arms."""
+        as ``template``; :class:`.armless.ArmlessBody`) when given, with the
+        silhouette within :data:`MISFIT_BAND` of it credited to no arm; else the
+        template less the capsules of the leaf's and the reference's arms."""
         sk = self.skeleton
         q = np.asarray(pose, np.float64).copy()
         body = (np.asarray(template if armless is None else armless) > 0).astype(np.uint8)
@@ -378,6 +387,8 @@ class ArmFitter:
                     body &= 1 - arm
         replaced, gains = [False, False], [0.0, 0.0]
         cost64 = np.ascontiguousarray(cost, np.float64)
+        if armless is not None:  # silhouette along the body's outline is its own misfit
+            cost64 = np.where((self._misfit_band(body) > 0) & (cost64 < 0), 0.0, cost64)
         negative = np.zeros((cost64.shape[0], cost64.shape[1] + 1))
         np.cumsum(np.where(body > 0, 0.0, np.minimum(cost64, 0.0)), axis=1, out=negative[:, 1:])
         for s in (0, 1):
@@ -405,6 +416,12 @@ class ArmFitter:
                 replaced[s] = True
                 gains[s] = gain
         return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
+
+    def _misfit_band(self, body: NDArray[np.uint8]) -> NDArray[np.uint8]:
+        """The pixels within :data:`MISFIT_BAND` of ``body`` and not on it."""
+        r = max(1, int(round(MISFIT_BAND / self.mpp)))
+        disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+        return cv2.dilate(body, disc) & (1 - body)
 
     def _at_level(self, mask: NDArray[np.uint8]) -> NDArray[np.uint8]:
         """A level-3 (320x240) window mask at this fitter's level (a 2x2 block is on
