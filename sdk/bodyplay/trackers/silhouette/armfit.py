@@ -388,7 +388,7 @@ class ArmFitter:
         replaced, gains = [False, False], [0.0, 0.0]
         cost64 = np.ascontiguousarray(cost, np.float64)
         if armless is not None:  # silhouette along the body's outline is its own misfit
-            cost64 = np.where((self._misfit_band(body) > 0) & (cost64 < 0), 0.0, cost64)
+            cost64 = np.where(self._misfit_band(body) & (cost64 < 0), 0.0, cost64)
         negative = np.zeros((cost64.shape[0], cost64.shape[1] + 1))
         np.cumsum(np.where(body > 0, 0.0, np.minimum(cost64, 0.0)), axis=1, out=negative[:, 1:])
         for s in (0, 1):
@@ -417,11 +417,12 @@ class ArmFitter:
                 gains[s] = gain
         return ArmFit(q, (replaced[0], replaced[1]), (gains[0], gains[1]))
 
-    def _misfit_band(self, body: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    def _misfit_band(self, body: NDArray[np.uint8]) -> NDArray[np.bool_]:
         """The pixels within :data:`MISFIT_BAND` of ``body`` and not on it."""
         r = max(1, int(round(MISFIT_BAND / self.mpp)))
         disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-        return cv2.dilate(body, disc) & (1 - body)
+        grown = np.asarray(cv2.dilate(body, disc), np.uint8)
+        return (grown > 0) & (body == 0)
 
     def _at_level(self, mask: NDArray[np.uint8]) -> NDArray[np.uint8]:
         """A level-3 (320x240) window mask at this fitter's level (a 2x2 block is on
