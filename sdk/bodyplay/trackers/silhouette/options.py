@@ -268,10 +268,14 @@ class SilhouetteOptions:
     of eq. 11's per-pixel term) it must be to replace it (on the tune clips: off
     12.9 cm mean of clip medians, 11.1 with these); ``arm_body``: what the arms are
     scored against, ``"torso"`` the leaf rendered without its arms (:mod:`.armless`:
-    only what the torso, head and legs do not cover is the arms' to win or lose) or
-    ``"template"`` the leaf's template less its arms' capsules (a leaf whose arm hangs
-    in front of the torso credits that arm with the torso it hides, and a raised arm
-    the silhouette shows loses to it: docs/silhouette-history.md, sections 16, 17, 20);
+    only what the torso, head and legs do not cover is the arms' to win or lose;
+    silhouette within 3.6 cm of their outline is their own misfit and credits no arm)
+    or ``"template"``, before 2026-11-28, the leaf's template less its arms' capsules
+    (a leaf whose arm hangs in front of the torso credits that arm with the torso it
+    hides, and a raised arm the silhouette shows loses to it). ``"torso"``: tune
+    captures' mean over three tree seeds 11.8 -> 10.3 cm, built-from 8.07 -> 7.83, and
+    on a fresh draw of the rooms nobody tuned on 23.5 -> 23.2
+    (docs/silhouette-history.md, sections 16, 17, 20);
     ``width_frames``: the body's girth (torso and limbs' thickness; not its joints)
     is measured on the reported pose over that many frames after the body is
     chosen (:mod:`.bodywidth`: the preset's mesh at girth factors 0.9 to
