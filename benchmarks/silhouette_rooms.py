@@ -272,6 +272,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--list", action="store_true", help="print the plan of both halves")
     p.add_argument("--json", help="also write the per-capture rows to this file")
     args = p.parse_args(argv)
+    if args.draw < 0:
+        p.error(f"--draw must be 0 (the set every figure was measured on) or more, got {args.draw}")
     if args.list:
         for half in ("tune", "report", "photo"):
             for room, clip, start in plan(half, args.clips_per_room, args.draw):

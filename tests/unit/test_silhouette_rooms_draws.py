@@ -28,3 +28,10 @@ def test_a_fresh_draw_shows_each_room_other_clips_from_their_own_part(rooms) -> 
         # the rooms' clips move along the list (Bandai clips only when ../shared has them)
         if len({c for _, c, _ in base}) > 1:
             assert [c for _, c, _ in fresh] != [c for _, c, _ in base]
+
+
+def test_a_negative_draw_is_refused_with_what_it_takes(rooms, capsys) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(SystemExit) as stop:
+        rooms.main(["--list", "--draw", "-1"])
+    assert stop.value.code == 2
+    assert "--draw must be 0" in capsys.readouterr().err
