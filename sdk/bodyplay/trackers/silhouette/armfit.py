@@ -450,10 +450,11 @@ class ArmFitter:
         f = 2.0 ** (self.level - 2)
         sh = (shift[0] * f, shift[1] * f)
         origin = leaf_pose[0:3] - leaf_offset
-        tmpl = self._at_level(placed)
         armless = None
         if self.armless is not None:  # rendered as the template was, placed as it is
             armless = self._at_level(shifted(self.armless.mask(leaf_pose, origin), shift))
+        # fit() reads the template only without the armless body
+        tmpl = self._at_level(placed) if armless is None else armless
         reference = (joints - at) @ R_align  # the reported joints, template frame
         fit = self.fit(leaf_pose, origin, tmpl, cost, sh, reference, armless)
         if not any(fit.replaced):
