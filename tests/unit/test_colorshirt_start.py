@@ -128,33 +128,3 @@ def test_two_cameras_ignore_what_moved_in_one_camera() -> None:
     start = choose_start([[a, c], [b]], [], None, lambda v: True, fit, _BAND, True,
                          moved_share=lambda v: share[cast(Any, v).name])
     assert start.views == [c, b]  # the lower residual, as without the scores
-
-
-def test_one_camera_tries_the_spare_regions_lying_in_what_moved_when_no_region_starts() -> None:
-    rug = [_region(0, f"rug{i}") for i in range(3)]
-    poster, player = _region(0, "poster"), _region(0, "player")
-    table = {frozenset([r.name]): (0.1, 12, 0.01) for r in rug}  # the root under the floor
-    table[frozenset(["poster"])] = (1.0, START_PATCHES + 6, 0.01)
-    table[frozenset(["player"])] = (1.0, START_PATCHES + 4, 0.05)
-    share = {"player": MOVED_SHARE + 0.3, "poster": 0.0}
-    start = choose_start([rug], [], None, lambda v: True, _fits(table), _BAND, True,
-                         moved_share=lambda v: share.get(cast(Any, v).name, 0.0),
-                         spares=[poster, player])
-    assert start.views == [player]
-
-
-def test_one_camera_leaves_the_spare_regions_alone_when_a_region_starts() -> None:
-    first, spare = _region(0, "first"), _region(0, "spare")
-    fit = _fits({frozenset(["first"]): (1.0, START_PATCHES + 1, 0.05),
-                 frozenset(["spare"]): (1.0, START_PATCHES + 9, 0.001)})
-    start = choose_start([[first]], [], None, lambda v: True, fit, _BAND, True,
-                         moved_share=lambda v: 1.0, spares=[spare])
-    assert start.views == [first]
-
-
-def test_one_camera_never_starts_on_a_spare_region_nothing_moved_in() -> None:
-    rug, shelf = _region(0, "rug"), _region(0, "shelf")
-    fit = _fits({frozenset(["rug"]): (0.1, 12, 0.01), frozenset(["shelf"]): (1.0, 12, 0.01)})
-    start = choose_start([[rug]], [], None, lambda v: True, fit, _BAND, True,
-                         moved_share=lambda v: 0.0, spares=[shelf])
-    assert start.views is None

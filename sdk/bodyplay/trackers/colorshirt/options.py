@@ -75,8 +75,7 @@ class ColorShirtOptions:
     * ``good_residual``: a fit reprojecting within this many shirt sizes is *good*
       (teaches the room plate, judges the body, overrides the speed gate).
     * ``start_candidates``: shirt-like regions per camera tried when nothing is
-      tracked (one camera: three more, lying in what moved, when none of them
-      starts), a start's root within ``start_root_band`` of the standing pelvis
+      tracked, a start's root within ``start_root_band`` of the standing pelvis
       height; ``start_agreement_frames``: how long one camera alone of several (its
       start, or a track the others lost) waits for another to agree, unreported.
     * ``locate``: the histogram search (:class:`.locate.LocateOptions`).

@@ -53,8 +53,7 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
                  fit: Callable[[list[CameraView]], StartFit | None],
                  root_band: tuple[float, float], motion_known: bool,
                  seen_empty: Callable[[CameraView], bool] | None = None,
-                 moved_share: Callable[[CameraView], float] | None = None,
-                 spares: list[CameraView] | None = None) -> StartChoice:
+                 moved_share: Callable[[CameraView], float] | None = None) -> StartChoice:
     """The best combination of ``candidates`` (per camera), each region or none.
 
     ``tracked``: the view of the camera ``lone`` that alone started the track (every
@@ -64,11 +63,7 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
     ``seen_empty``: whether a region was learned as the empty room (a region nothing
     moved in there is room: neither started on nor held, so the plates learn it);
     ``moved_share``: (one camera) how much of a region lies where the room plate saw a
-    player move: a region of :data:`MOVED_SHARE` or more ranks first; ``spares``: (one
-    camera) the regions found after ``candidates``, tried only when none of those
-    starts a track, and only those lying in what moved (a striped rug in the shirt's
-    colours can offer the histogram search its most uniform regions, each fit of them
-    under the floor, the player's shirt after them; in an empty room nothing moved).
+    player move: a region of :data:`MOVED_SHARE` or more ranks first.
     """
     one = len(candidates) == 1
     lo, hi = root_band
@@ -99,10 +94,4 @@ def choose_start(candidates: list[list[CameraView]], tracked: list[CameraView],
         key = (int(still), -len(chosen), -int(lying), -patches if one else 0, residual)
         if best is None or key < best[0]:
             best = (key, chosen)
-    if best is None and one and spares and moved_share is not None:
-        in_moved = [v for v in spares if moved_share(v) >= MOVED_SHARE]
-        if in_moved:
-            spare = choose_start([in_moved], tracked, lone, moved, fit, root_band, motion_known,
-                                 seen_empty, moved_share)
-            return StartChoice(spare.views, held + spare.held)
     return StartChoice(None if best is None else best[1], held)

@@ -46,10 +46,6 @@ from bodyplay.trackers.colorshirt.views import CameraView
 
 __all__ = ["ColorShirtTracker", "CameraView"]
 
-_SPARE_REGIONS = 3
-"""Regions one camera's start finds beyond ``start_candidates``: the spares of
-:func:`.start.choose_start` (colorshirt-history §47)."""
-
 _PLACEMENT_STD = 1.0
 """Metres: how loosely a lone camera's first 6-DOF fit is held at the database
 placement's root (two cameras: 0.3)."""
@@ -263,20 +259,16 @@ class ColorShirtTracker:
         but never moved are held (``_held``): the room plates must not learn them."""
         o = self.options
         lone = None if self._alone is None else self._alone[0]
-        one = len(self.cameras) == 1
         cands = [self._work.views(i, self._cams[i], frames.t, confirmed,
-                                  1 if i == lone else o.start_candidates
-                                  + (_SPARE_REGIONS if one else 0), lone is not None or one)
+                                  1 if i == lone else o.start_candidates,
+                                  lone is not None or len(self.cameras) == 1)
                  for i in range(len(frames))]
-        spares: list[CameraView] = []
-        if one:  # also the region within what the player moved
+        if len(self.cameras) == 1:  # also the region within what the player moved
             found = self._work.moved_view(0, self._cams[0], frames.t)
-            cands[0], spares = cands[0][:o.start_candidates], cands[0][o.start_candidates:]
             cands[0] += [] if found is None else [found]
         cands = [[v for v in c if v.distance <= o.max_mismatch] for c in cands]
-        spares = [v for v in spares if v.distance <= o.max_mismatch]
         tracked = [] if lone is None else cands[lone]
-        start = self._choose(cands, tracked, lone, spares)
+        start = self._choose(cands, tracked, lone)
         if len(self.cameras) == 1 and start.views is not None:
             lying = self._work.moved_share(self._cams[0], start.views[0]) >= MOVED_SHARE
             self._unscored = None if lying else 0
@@ -290,12 +282,12 @@ class ColorShirtTracker:
         return chosen, start.views is not None
 
     def _choose(self, cands: list[list[CameraView]], tracked: list[CameraView],
-                lone: int | None, spares: list[CameraView] | None = None) -> StartChoice:
+                lone: int | None) -> StartChoice:
         """:func:`.start.choose_start` over ``cands`` (per camera), each combination
         fitted without the depth filter (``_lone`` is None while it judges)."""
         o = self.options
-        regions = [v for i, c in enumerate(cands) if i != lone for v in c] + (spares or [])
-        moved = {id(v): self._work.moved(self._cams[v.index], v) for v in regions}
+        moved = {id(v): self._work.moved(self._cams[v.index], v)
+                 for i, c in enumerate(cands) if i != lone for v in c}
         band = (o.start_root_band[0] * self.skeleton.pelvis_height,
                 o.start_root_band[1] * self.skeleton.pelvis_height)
         saved, self._lone = self._lone, None  # judged without the depth filter
@@ -309,8 +301,7 @@ class ColorShirtTracker:
         start = choose_start(cands, tracked, lone, lambda v: bool(moved[id(v)]), fit, band,
                              o.background_subtraction,
                              lambda v: self._work.seen_empty(self._cams[v.index], v),
-                             lambda v: self._work.moved_share(self._cams[v.index], v),
-                             spares or [])
+                             lambda v: self._work.moved_share(self._cams[v.index], v))
         self._lone, self.diagnostics = saved, {}
         return start
 
