@@ -159,6 +159,55 @@ def test_after_a_failed_start_a_floor_point_counts_only_where_the_shape_agrees(
     assert win is far
 
 
+def test_a_dropped_guess_is_made_again_in_a_box_that_reaches_the_still_feet(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    # Pose2Sim cam02: the dropped guess left the still feet as room, so the floor
+    # point (what moved: the shins) lies far behind the player; the box made again
+    # there would keep the feet out for good. The box also covers where the
+    # templates fit what moved, so the feet are in it.
+    from bodyplay.trackers.silhouette.background import Silhouette
+
+    tree = silhouette_tree
+    cam = _camera()
+    tracker = _tracker(tree)
+    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
+    rows = np.flatnonzero(shown.any(axis=1))
+    feet = rows[-1] - (rows[-1] - rows[0]) // 8
+    moved = shown.copy()
+    moved[feet:] = 0  # the feet stood still from the first frame: room
+    sil = Silhouette(moved, np.zeros_like(moved), scale, None)
+    far = window_at_distance(tracker.geometry, cam, moved, sil.unknown, scale, 4.5)
+    assert far is not None
+    at_floor = tracker._person_box(far.ground, sil)
+    on_feet = shown[feet:] > 0
+    assert not at_floor[feet:][on_feet].any()  # the box at the floor point alone
+    box = tracker._redo_box(far, sil)
+    # most of the feet (the templates' distance is a grid step off the 3 m), and all of
+    # the floor point's box
+    assert box[feet:][on_feet].mean() > 0.5 and box[at_floor].all()
+
+
+def test_a_dropped_guess_is_made_again_at_the_floor_point_where_the_templates_agree(
+        silhouette_tree) -> None:  # type: ignore[no-untyped-def]
+    from bodyplay.trackers.silhouette.background import Silhouette
+
+    tree = silhouette_tree
+    cam = _camera()
+    tracker = _tracker(tree)
+    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
+    sil = Silhouette(shown, np.zeros_like(shown), scale, None)
+    for metres in (3.0, 4.0):  # the feet seen; or nearer than where the templates fit
+        d = shape_distance(tree.bodies["m"], tracker.geometry, cam, shown, sil.unknown,
+                           scale, 1.0, tracker.max_distance, beta=tracker.options.beta,
+                           level=1)
+        assert d is not None
+        win = window_at_distance(tracker.geometry, cam, shown, sil.unknown, scale,
+                                 min(metres, d))
+        assert win is not None
+        assert np.array_equal(tracker._redo_box(win, sil),
+                              tracker._person_box(win.ground, sil))
+
+
 def test_options_reject_a_negative_restart() -> None:
     with pytest.raises(ConfigError, match="restart_within"):
         SilhouetteOptions(restart_within=-1.0)

@@ -307,7 +307,10 @@ class SilhouetteOptions:
     first guess (0: off);
     ``box_redo``: when the first guess was dropped (it took a treadmill or a sofa
     under the player for the figure), the box a person standing at the first floor
-    point can fill is the guess (the same box, ``box_guess`` > 0), resolved like a
+    point can fill is the guess (the same box, ``box_guess`` > 0; grown by the box at
+    the distance where the templates fit best, :mod:`.shapestart`, when that is nearer
+    than the floor point by more than ``restart_agree``: the floor point of what moved
+    lies behind the player when the still feet were left as room), resolved like a
     first guess: the first frame's copy of the player left in the room (the ghost)
     and the still body are resolved again instead of staying foreground and
     background (False: the dropped guess's pixels stay "don't care" and are learned);

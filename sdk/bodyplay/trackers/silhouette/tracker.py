@@ -20,7 +20,8 @@ median over ``shape_frames`` frames), until a floor point is seen; at that
 moment the first frame's guess is made again in the box a person standing there
 can fill (``box_guess``, :meth:`.background.BackgroundModel.guess_in`); a first
 guess dropped as not the player's (a treadmill under him) is that box at the first
-pose after it (``box_redo``). A start whose
+pose after it, grown to where the templates fit when they put the player nearer
+(``box_redo``). A start whose
 track is lost before it has lasted ``restart_within`` s is undone (nothing is
 protected any more, the still body is held again), and the next floor point must
 agree with the templates' distance (``restart_agree``) for ``restart_doubt`` s.
@@ -254,7 +255,7 @@ class SilhouetteTracker:
         if o.box_redo and o.box_guess and bg.dropped and not bg.reguessed:
             # the first guess was dropped (it took a treadmill for the figure): the box a
             # person standing here can fill is the guess now, resolved (once per start)
-            bg.guess_in(self._person_box(win.ground, sil), grabcut=False)
+            bg.guess_in(self._redo_box(win, sil), grabcut=False)
         if self._started is None:
             self._started = frames.t
             self._start_frame = self.background.frames
@@ -600,6 +601,25 @@ class SilhouetteTracker:
         o = self.options
         return person_box(self._cam, ground, sil.foreground.shape, sil.scale, o.box_guess,
                           o.box_below, o.box_top)
+
+    def _redo_box(self, win: ObservedWindow, sil: Silhouette) -> NDArray[np.bool_]:
+        """The box a dropped first guess is made again in (``box_redo``): where a
+        person standing at the floor point of ``win`` can be, grown by the box at the
+        floor distance where the templates fit the silhouette best (:mod:`.shapestart`)
+        when that distance is nearer than the floor point by more than
+        ``restart_agree`` of it. The floor point after a drop is the lowest pixel of
+        what moved (the shins above a still bare foot the dropped guess left as room)
+        and may lie metres behind the player; the box standing there has its bottom
+        edge above the feet, which would stay room for good."""
+        box = self._person_box(win.ground, sil)
+        bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
+        d = shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
+                           sil.scale, 1.0, self.max_distance, beta=self.options.beta, level=1)
+        if d is None or win.distance - d <= self.options.restart_agree * d:
+            return box  # the templates agree with the floor point, or put the player farther
+        at = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
+                                sil.scale, d)
+        return box if at is None else box | self._person_box(at.ground, sil)
 
     def _absent(self, frames: FrameSet, sil: Silhouette, t0: float,
                 stages: dict[str, float]) -> TrackResult:
