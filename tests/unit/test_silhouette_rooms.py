@@ -106,6 +106,27 @@ def _tracker(tree):  # type: ignore[no-untyped-def]
                                      (_camera(),), tree=tree)
 
 
+def _feet_row(shown: np.ndarray) -> int:
+    """The first row of the lowest eighth of a silhouette: its feet."""
+    rows = np.flatnonzero(shown.any(axis=1))
+    return int(rows[-1] - (rows[-1] - rows[0]) // 8)
+
+
+def _at_three_metres(tree, still_feet: bool = False):  # type: ignore[no-untyped-def]
+    """A tracker, its camera and the silhouette of a leaf standing 3 m away (with
+    ``still_feet`` its feet left out: they stood still and the room took them), with
+    the whole leaf's silhouette and its scale."""
+    from bodyplay.trackers.silhouette.background import Silhouette
+
+    cam = _camera()
+    tracker = _tracker(tree)
+    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
+    moved = shown.copy()
+    if still_feet:
+        moved[_feet_row(shown):] = 0
+    return tracker, cam, shown, scale, Silhouette(moved, np.zeros_like(moved), scale, None)
+
+
 def _track_from(tracker, started: float, last: float) -> None:  # type: ignore[no-untyped-def]
     from bodyplay.trackers.silhouette.tracker import _Last
 
@@ -136,13 +157,7 @@ def test_tracker_keeps_a_track_that_held_when_the_person_is_lost(silhouette_tree
 
 def test_after_a_failed_start_a_floor_point_counts_only_where_the_shape_agrees(
         silhouette_tree) -> None:  # type: ignore[no-untyped-def]
-    from bodyplay.trackers.silhouette.background import Silhouette
-
-    tree = silhouette_tree
-    cam = _camera()
-    tracker = _tracker(tree)
-    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
-    sil = Silhouette(shown, np.zeros_like(shown), scale, None)
+    tracker, cam, shown, scale, sil = _at_three_metres(silhouette_tree)
     geometry = tracker.geometry
     far = window_at_distance(geometry, cam, shown, sil.unknown, scale, 4.5)
     near = window_at_distance(geometry, cam, shown, sil.unknown, scale, 3.2)
@@ -165,17 +180,8 @@ def test_a_dropped_guess_is_made_again_in_a_box_that_reaches_the_still_feet(
     # point (what moved: the shins) lies far behind the player; the box made again
     # there would keep the feet out for good. The box also covers where the
     # templates fit what moved, so the feet are in it.
-    from bodyplay.trackers.silhouette.background import Silhouette
-
-    tree = silhouette_tree
-    cam = _camera()
-    tracker = _tracker(tree)
-    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
-    rows = np.flatnonzero(shown.any(axis=1))
-    feet = rows[-1] - (rows[-1] - rows[0]) // 8
-    moved = shown.copy()
-    moved[feet:] = 0  # the feet stood still from the first frame: room
-    sil = Silhouette(moved, np.zeros_like(moved), scale, None)
+    tracker, cam, shown, scale, sil = _at_three_metres(silhouette_tree, still_feet=True)
+    feet, moved = _feet_row(shown), sil.foreground
     far = window_at_distance(tracker.geometry, cam, moved, sil.unknown, scale, 4.5)
     assert far is not None
     at_floor = tracker._person_box(far.ground, sil)
@@ -189,13 +195,8 @@ def test_a_dropped_guess_is_made_again_in_a_box_that_reaches_the_still_feet(
 
 def test_a_dropped_guess_is_made_again_at_the_floor_point_where_the_templates_agree(
         silhouette_tree) -> None:  # type: ignore[no-untyped-def]
-    from bodyplay.trackers.silhouette.background import Silhouette
-
+    tracker, cam, shown, scale, sil = _at_three_metres(silhouette_tree)
     tree = silhouette_tree
-    cam = _camera()
-    tracker = _tracker(tree)
-    shown, scale = _shown(tree, cam, tree.num_leaves // 3, 3.0)
-    sil = Silhouette(shown, np.zeros_like(shown), scale, None)
     for metres in (3.0, 4.0):  # the feet seen; or nearer than where the templates fit
         d = shape_distance(tree.bodies["m"], tracker.geometry, cam, shown, sil.unknown,
                            scale, 1.0, tracker.max_distance, beta=tracker.options.beta,
