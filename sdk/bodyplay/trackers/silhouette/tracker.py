@@ -364,9 +364,7 @@ class SilhouetteTracker:
                 # nothing still and unseen, or what the templates may not cover is not
                 # known yet
                 return None, False
-            bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
-            d = shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
-                               sil.scale, 1.0, self.max_distance, beta=o.beta, level=1)
+            d = self._templates_distance(sil)
             if d is not None:
                 self._shape_ds.append(d)
             if len(self._shape_ds) < o.shape_frames:
@@ -602,6 +600,14 @@ class SilhouetteTracker:
         return person_box(self._cam, ground, sil.foreground.shape, sil.scale, o.box_guess,
                           o.box_below, o.box_top)
 
+    def _templates_distance(self, sil: Silhouette) -> float | None:
+        """The floor distance at which body ``m``'s templates best fit ``sil``
+        (:func:`.shapestart.shape_distance`, level 1); None when none fits."""
+        bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
+        return shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
+                              sil.scale, 1.0, self.max_distance, beta=self.options.beta,
+                              level=1)
+
     def _redo_box(self, win: ObservedWindow, sil: Silhouette) -> NDArray[np.bool_]:
         """The box a dropped first guess is made again in (``box_redo``): where a
         person standing at the floor point of ``win`` can be, grown by the box at the
@@ -612,9 +618,7 @@ class SilhouetteTracker:
         and may lie metres behind the player; the box standing there has its bottom
         edge above the feet, which would stay room for good."""
         box = self._person_box(win.ground, sil)
-        bt = self.tree.bodies.get("m") or next(iter(self.tree.bodies.values()))
-        d = shape_distance(bt, self.geometry, self._cam, sil.foreground, sil.unknown,
-                           sil.scale, 1.0, self.max_distance, beta=self.options.beta, level=1)
+        d = self._templates_distance(sil)
         if d is None or win.distance - d <= self.options.restart_agree * d:
             return box  # the templates agree with the floor point, or put the player farther
         at = window_at_distance(self.geometry, self._cam, sil.foreground, sil.unknown,
